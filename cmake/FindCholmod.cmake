@@ -1,0 +1,8 @@
+# CHOLMOD from SuiteSparse (Debian: libsuitesparse-dev), linked against the system BLAS (OpenBLAS).
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(SUITESPARSE_CONFIG_LIBRARY suitesparseconfig REQUIRED)
+add_library(tp_cholmod INTERFACE)
+target_include_directories(tp_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(tp_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSE_CONFIG_LIBRARY})
+message(STATUS "CHOLMOD: ${CHOLMOD_LIBRARY}")
