@@ -1,0 +1,38 @@
+#pragma once
+// Wall material. Units: E in MPa (= µN/µm²), thickness in µm, ν dimensionless.
+
+#include <stdexcept>
+#include <string>
+
+namespace tp {
+
+enum class BendingModel {
+  Hinge,   // discrete-shell hinges with rest angles, calibrated to D (default)
+  Linear,  // Volino & Magnenat-Thalmann 2006 linear bending vector (the published model)
+  None,
+};
+
+BendingModel parseBendingModel(const std::string& name);  // "hinge" | "linear" | "none"
+std::string toString(BendingModel m);
+
+struct Material {
+  double youngModulus = 50.0;  // E, MPa
+  double poissonRatio = 0.49;  // ν
+  double thickness = 0.2;      // h, µm
+  BendingModel bending = BendingModel::Hinge;
+
+  /// Plane-stress Lamé constants (MPa): μ = E/(2(1+ν)), λ* = Eν/(1−ν²).
+  double mu() const { return youngModulus / (2.0 * (1.0 + poissonRatio)); }
+  double lambdaPlaneStress() const {
+    return youngModulus * poissonRatio / (1.0 - poissonRatio * poissonRatio);
+  }
+  /// Plate bending rigidity D = E h³ / (12 (1 − ν²)) (µN·µm).
+  double bendingRigidity() const {
+    return youngModulus * thickness * thickness * thickness /
+           (12.0 * (1.0 - poissonRatio * poissonRatio));
+  }
+  /// Throws std::invalid_argument naming the offending value.
+  void validate() const;
+};
+
+}  // namespace tp

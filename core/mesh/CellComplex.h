@@ -1,0 +1,71 @@
+#pragma once
+// The cell complex: a tissue of polyhedral cells whose walls are triangulated polygons.
+// Units: µm. Conventions: every triangle of a wall is wound counter-clockwise seen from outside
+// `Wall::cell`, i.e. its right-hand normal points out of that cell and into `Wall::neighbor`
+// (-1 = outside the tissue). A wall with cell == -1 belongs to an open sheet (no pressure).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tp {
+
+using Vec3 = Eigen::Vector3d;
+using Points = Eigen::Matrix3Xd;  // 3 x #V, one column per vertex (µm)
+
+struct Wall {
+  std::vector<int> polygon;  // boundary loop (vertex indices); empty if the wall was given as triangles
+  int cell = -1;             // dense cell index the normal points out of; -1 = none (sheet)
+  int neighbor = -1;         // dense cell index on the other side; -1 = outside the tissue
+};
+
+struct CellComplex {
+  Points rest;                              // 3 x V rest positions (µm)
+  std::vector<std::uint8_t> fixed;          // V, 1 = clamped vertex
+  std::vector<Eigen::Vector3i> triangles;   // T, wound as stated above
+  std::vector<int> triangleWall;            // T, wall of each triangle
+  std::vector<Wall> walls;                  // W
+  std::vector<int> cellLabels;              // C, user-facing label of each dense cell index
+
+  int vertexCount() const { return static_cast<int>(rest.cols()); }
+  int triangleCount() const { return static_cast<int>(triangles.size()); }
+  int wallCount() const { return static_cast<int>(walls.size()); }
+  int cellCount() const { return static_cast<int>(cellLabels.size()); }
+
+  /// Appends a wall made of the given triangles (already wound) and returns its index.
+  int addWall(const std::vector<Eigen::Vector3i>& tris, int cell, int neighbor,
+              std::vector<int> polygon = {});
+  /// Appends a planar or nearly planar polygon wall, triangulated by ear clipping.
+  int addPolygonWall(const std::vector<int>& polygon, int cell, int neighbor);
+
+  /// True when the triangle lies on the tissue's outer surface (nothing on its far side).
+  bool isOuterTriangle(int t) const { return walls[triangleWall[t]].neighbor < 0; }
+};
+
+/// Triangulates a simple polygon (vertex indices into `points`) by ear clipping in its best-fit
+/// plane (Newell normal). The triangles keep the polygon's winding. Throws on fewer than 3 vertices.
+std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points, const std::vector<int>& polygon);
+
+/// Signed volume of each cell at positions x (µm³), positive when the walls are wound outward.
+std::vector<double> cellVolumes(const CellComplex& cc, const Points& x);
+/// Area of each triangle at positions x (µm²).
+std::vector<double> triangleAreas(const CellComplex& cc, const Points& x);
+
+/// Result of checking a cell complex; `ok()` when there are no errors.
+struct ValidityReport {
+  std::vector<std::string> errors;
+  std::vector<std::string> warnings;
+  int openCells = 0;            // cells whose boundary has free edges
+  int misorientedCells = 0;     // cells with an edge used twice in the same direction
+  int nonManifoldEdges = 0;     // edges of one cell shared by more than two of its triangles
+  int degenerateTriangles = 0;  // zero-area triangles
+  bool ok() const { return errors.empty(); }
+  std::string summary() const;
+};
+
+/// Checks indices, orientation and closedness of every cell (a cell whose open boundary is entirely
+/// clamped is accepted, as for a pressurised membrane clamped at its rim).
+ValidityReport checkValidity(const CellComplex& cc);
+
+}  // namespace tp
