@@ -1,0 +1,61 @@
+#pragma once
+// Free degrees of freedom and the fixed sparsity pattern of the tangent matrix, with per-element
+// slot tables so that assembly scatters straight into CHOLMOD's value array (no triplets, no sort
+// per iteration). Assembly of any element term is written once, in Model.cpp.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace tp {
+
+/// Maps the 3V position components to the free unknowns (clamped components are removed).
+class DofMap {
+ public:
+  DofMap() = default;
+  /// fixedDof: 3V flags (component 3v+k of vertex v), 1 = prescribed.
+  explicit DofMap(const std::vector<std::uint8_t>& fixedDof);
+  int fullCount() const { return static_cast<int>(index_.size()); }
+  int freeCount() const { return static_cast<int>(free_.size()); }
+  int index(int dof) const { return index_[dof]; }  // free index or −1
+  const std::vector<int>& freeDofs() const { return free_; }
+
+ private:
+  std::vector<int> index_;
+  std::vector<int> free_;
+};
+
+/// Upper triangle (row ≤ column) of a symmetric matrix over the free unknowns, compressed by
+/// column with sorted row indices: the layout CHOLMOD takes with stype = +1.
+struct SparsePattern {
+  int n = 0;
+  std::vector<int> colPtr;  // n + 1
+  std::vector<int> rowIdx;  // nnz
+  int nnz() const { return static_cast<int>(rowIdx.size()); }
+  /// Position of (row, col), row ≤ col, in the value array, or −1 if not in the pattern.
+  int find(int row, int col) const;
+};
+
+/// Builds the pattern from elements given as vertex lists (vertex-level adjacency, expanded to
+/// 3×3 blocks). `elements` are flattened lists of `arity` vertices each.
+SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
+                           const std::vector<std::pair<int, std::span<const int>>>& elementSets);
+
+/// For every element of one kind (arity N vertices), the value-array position of each local
+/// entry (i, j) of its 3N×3N Hessian, or −1 when the entry is skipped (a fixed component, or the
+/// lower-triangle twin of a stored entry). Every stored entry is hit exactly once per element.
+class SlotTable {
+ public:
+  SlotTable() = default;
+  SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
+            std::span<const int> elementVertices);
+  const int* element(int e) const { return slots_.data() + static_cast<size_t>(e) * stride_; }
+  int arity() const { return arity_; }
+
+ private:
+  int arity_ = 0, stride_ = 0;
+  std::vector<int> slots_;
+};
+
+}  // namespace tp

@@ -1,0 +1,141 @@
+#include "mechanics/Bending.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace tp {
+
+// θ = atan2(y, x) with x = u·v, y = (u × v)·ŵ, u = e × a, v = b × e, w = e,
+// e = x1 − x0, a = x2 − x0, b = x3 − x0 (u, v: unnormalised normals of A and B).
+// Derivatives by the chain rule through q = (u, v, w): ∇θ = Jᵀ ∇_q θ and
+// ∇²θ = Jᵀ ∇²_q θ J + Σ_k (∂θ/∂q_k) ∇² q_k, where u and v are bilinear in the edge vectors.
+double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec12* grad,
+                     Mat12* hess) {
+  const Vec3 e = x1 - x0, a = x2 - x0, b = x3 - x0;
+  const Vec3 u = e.cross(a), v = b.cross(e);
+  const double wn = e.norm();
+  const Vec3 wh = e / wn;
+  const Vec3 c = u.cross(v);
+  const double x = u.dot(v);
+  const double y = c.dot(wh);
+  const double theta = std::atan2(y, x);
+  if (!grad && !hess) return theta;
+
+  const double r2 = x * x + y * y;
+  const double th_x = -y / r2, th_y = x / r2;
+  Eigen::Matrix<double, 9, 1> gx, gy;
+  const Mat3 P = Mat3::Identity() - wh * wh.transpose();
+  gx << v, u, Vec3::Zero();
+  gy << v.cross(wh), wh.cross(u), P * c / wn;
+  const Eigen::Matrix<double, 9, 1> gq = th_x * gx + th_y * gy;
+
+  Eigen::Matrix<double, 9, 12> J = Eigen::Matrix<double, 9, 12>::Zero();
+  const Mat3 Ce = crossMatrix(e), Ca = crossMatrix(a), Cb = crossMatrix(b);
+  J.block<3, 3>(0, 0) = Ca - Ce;
+  J.block<3, 3>(0, 3) = -Ca;
+  J.block<3, 3>(0, 6) = Ce;
+  J.block<3, 3>(3, 0) = Ce - Cb;
+  J.block<3, 3>(3, 3) = Cb;
+  J.block<3, 3>(3, 9) = -Ce;
+  J.block<3, 3>(6, 0) = -Mat3::Identity();
+  J.block<3, 3>(6, 3) = Mat3::Identity();
+
+  if (grad) *grad = J.transpose() * gq;
+  if (!hess) return theta;
+
+  // ∇²_q x and ∇²_q y.
+  Eigen::Matrix<double, 9, 9> Hx = Eigen::Matrix<double, 9, 9>::Zero();
+  Hx.block<3, 3>(0, 3) = Mat3::Identity();
+  Hx.block<3, 3>(3, 0) = Mat3::Identity();
+  Eigen::Matrix<double, 9, 9> Hy = Eigen::Matrix<double, 9, 9>::Zero();
+  const Mat3 Cw = crossMatrix(wh), Cu = crossMatrix(u), Cv = crossMatrix(v);
+  Hy.block<3, 3>(0, 3) = -Cw;
+  Hy.block<3, 3>(3, 0) = Cw;
+  Hy.block<3, 3>(0, 6) = Cv * P / wn;
+  Hy.block<3, 3>(6, 0) = Hy.block<3, 3>(0, 6).transpose();
+  Hy.block<3, 3>(3, 6) = -Cu * P / wn;
+  Hy.block<3, 3>(6, 3) = Hy.block<3, 3>(3, 6).transpose();
+  const double cw = c.dot(wh);
+  Hy.block<3, 3>(6, 6) = -(c * wh.transpose() + wh * c.transpose() +
+                           cw * (Mat3::Identity() - 3.0 * wh * wh.transpose())) /
+                         (wn * wn);
+  const double r4 = r2 * r2;
+  const double th_xx = 2 * x * y / r4, th_yy = -2 * x * y / r4, th_xy = (y * y - x * x) / r4;
+  const Eigen::Matrix<double, 9, 9> Hq = th_x * Hx + th_y * Hy + th_xx * gx * gx.transpose() +
+                                         th_yy * gy * gy.transpose() +
+                                         th_xy * (gx * gy.transpose() + gy * gx.transpose());
+  *hess = J.transpose() * Hq * J;
+
+  // Second-order terms of the bilinear maps u(e, a) and v(b, e).
+  const Mat3 Gu = crossMatrix(gq.segment<3>(0)), Gv = crossMatrix(gq.segment<3>(3));
+  const double se[4] = {-1, 1, 0, 0}, sa[4] = {-1, 0, 1, 0}, sb[4] = {-1, 0, 0, 1};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double cu1 = se[i] * sa[j], cu2 = sa[i] * se[j];
+      const double cv1 = sb[i] * se[j], cv2 = se[i] * sb[j];
+      if (cu1 == 0 && cu2 == 0 && cv1 == 0 && cv2 == 0) continue;
+      hess->block<3, 3>(3 * i, 3 * j) += (cu2 - cu1) * Gu + (cv2 - cv1) * Gv;
+    }
+  return theta;
+}
+
+HingeRest hingeRest(const Vec3& X0, const Vec3& X1, const Vec3& X2, const Vec3& X3, double D) {
+  HingeRest r;
+  const Vec3 e = X1 - X0;
+  const double areaA = 0.5 * e.cross(X2 - X0).norm();
+  const double areaB = 0.5 * (X3 - X0).cross(e).norm();
+  r.stiffness = D * e.squaredNorm() / std::max(2.0 * (areaA + areaB), 1e-300);
+  r.restAngle = dihedralAngle(X0, X1, X2, X3, nullptr, nullptr);
+  return r;
+}
+
+double hingeEnergy(const HingeRest& rest, const Vec3& x0, const Vec3& x1, const Vec3& x2,
+                   const Vec3& x3, Vec12* grad, Mat12* hess) {
+  Vec12 g;
+  Mat12 H;
+  const double theta = dihedralAngle(x0, x1, x2, x3, (grad || hess) ? &g : nullptr,
+                                     hess ? &H : nullptr);
+  double d = theta - rest.restAngle;  // wrapped into (−π, π]
+  if (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+  if (d <= -std::numbers::pi) d += 2 * std::numbers::pi;
+  const double k = rest.stiffness;
+  if (grad) *grad = 2.0 * k * d * g;
+  if (hess) *hess = 2.0 * k * (g * g.transpose() + d * H);
+  return k * d * d;
+}
+
+LinearBendingRest linearBendingRest(const Vec3& X0, const Vec3& X1, const Vec3& X2,
+                                    const Vec3& X3, double D) {
+  // Volino's naming: edge C = X0, D = X1; wings A = X2, B = X3.
+  const double NA = (X2 - X0).cross(X2 - X1).norm();  // 2 × area of the wing triangle A
+  const double NB = (X3 - X1).cross(X3 - X0).norm();
+  const double NC = (X0 - X3).cross(X0 - X2).norm();  // 2 × area of (C, A, B)
+  const double ND = (X1 - X2).cross(X1 - X3).norm();
+  LinearBendingRest r;
+  const double sAB = std::max(NA + NB, 1e-300), sCD = std::max(NC + ND, 1e-300);
+  r.alpha = {-ND / sCD, -NC / sCD, NB / sAB, NA / sAB};
+  const double len = (X1 - X0).norm();
+  const double hA = NA / len, hB = NB / len;
+  r.lambda = (2.0 / 3.0) * (hA + hB) / (hA * hA * hB * hB) * len * D;
+  r.restVector = r.alpha[0] * X0 + r.alpha[1] * X1 + r.alpha[2] * X2 + r.alpha[3] * X3;
+  return r;
+}
+
+double linearBendingEnergy(const LinearBendingRest& rest, const Vec3& x0, const Vec3& x1,
+                           const Vec3& x2, const Vec3& x3, Vec12* grad, Mat12* hess) {
+  const auto& al = rest.alpha;
+  const Vec3 R = al[0] * x0 + al[1] * x1 + al[2] * x2 + al[3] * x3 - rest.restVector;
+  if (grad)
+    for (int i = 0; i < 4; ++i) grad->segment<3>(3 * i) = rest.lambda * al[i] * R;
+  if (hess) {
+    hess->setZero();
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        hess->block<3, 3>(3 * i, 3 * j).diagonal().setConstant(rest.lambda * al[i] * al[j]);
+  }
+  return 0.5 * rest.lambda * R.squaredNorm();
+}
+
+}  // namespace tp

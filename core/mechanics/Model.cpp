@@ -1,0 +1,263 @@
+#include "mechanics/Model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "mechanics/Pressure.h"
+
+namespace tp {
+
+namespace {
+
+// Adds one element's gradient and Hessian into the global arrays (the only assembly routine).
+template <int M>
+inline void scatter(const int* verts, const int* slots, const Eigen::Matrix<double, M, 1>& g,
+                    const Eigen::Matrix<double, M, M>* H, double* grad, double* values) {
+  for (int i = 0; i < M; ++i) grad[3 * verts[i / 3] + i % 3] += g[i];
+  if (!H) return;
+  for (int i = 0; i < M; ++i)
+    for (int j = 0; j < M; ++j) {
+      const int s = slots[i * M + j];
+      if (s >= 0) values[s] += (*H)(i, j);
+    }
+}
+
+std::vector<std::uint8_t> dofsFromVertices(const std::vector<std::uint8_t>& fixed) {
+  std::vector<std::uint8_t> d(3 * fixed.size());
+  for (size_t v = 0; v < fixed.size(); ++v) d[3 * v] = d[3 * v + 1] = d[3 * v + 2] = fixed[v];
+  return d;
+}
+
+}  // namespace
+
+Model::Model(std::shared_ptr<const CellComplex> cc, const Material& material)
+    : cc_(std::move(cc)), topo_(buildTopology(*cc_)), material_(material) {
+  material_.validate();
+  const CellComplex& c = *cc_;
+  const Points& X = c.rest;
+  membraneRest_.reserve(c.triangleCount());
+  for (const auto& t : c.triangles) membraneRest_.push_back(membraneRest(X.col(t[0]), X.col(t[1]), X.col(t[2])));
+  const double D = material_.bendingRigidity();
+  for (const auto& h : topo_.hinges) {
+    const auto& v = h.v;
+    hingeRest_.push_back(hingeRest(X.col(v[0]), X.col(v[1]), X.col(v[2]), X.col(v[3]), D));
+    linearRest_.push_back(linearBendingRest(X.col(v[0]), X.col(v[1]), X.col(v[2]), X.col(v[3]), D));
+  }
+  for (const auto& r : membraneRest_)
+    membraneMagnitude_ += 2.0 * (material_.mu() + material_.lambdaPlaneStress()) * material_.thickness * r.area;
+  double sum = 0;
+  for (const auto& e : topo_.edges) sum += (X.col(e[0]) - X.col(e[1])).norm();
+  meanEdge_ = topo_.edges.empty() ? 1.0 : sum / topo_.edges.size();
+
+  triangleVerts_.reserve(3 * c.triangleCount());
+  for (const auto& t : c.triangles) triangleVerts_.insert(triangleVerts_.end(), {t[0], t[1], t[2]});
+  hingeVerts_.reserve(4 * topo_.hinges.size());
+  for (const auto& h : topo_.hinges) hingeVerts_.insert(hingeVerts_.end(), h.v.begin(), h.v.end());
+
+  cellPressure_.assign(c.cellCount(), 0.0);
+  contact_.stiffness = 1e3 * material_.youngModulus * material_.thickness;
+  contact_.smoothing = 1e-3 * meanEdge_;
+  setFixedDofs(dofsFromVertices(c.fixed));
+}
+
+void Model::setFixedDofs(const std::vector<std::uint8_t>& fixedDof) {
+  if (static_cast<int>(fixedDof.size()) != 3 * cc_->vertexCount())
+    throw std::invalid_argument("setFixedDofs: expected 3 flags per vertex");
+  dofs_ = DofMap(fixedDof);
+  pattern_ = buildPattern(dofs_, cc_->vertexCount(), {{3, triangleVerts_}, {4, hingeVerts_}});
+  triangleSlots_ = SlotTable(pattern_, dofs_, 3, triangleVerts_);
+  hingeSlots_ = SlotTable(pattern_, dofs_, 4, hingeVerts_);
+}
+
+void Model::setCellPressures(std::vector<double> pressures) {
+  if (static_cast<int>(pressures.size()) != cc_->cellCount())
+    throw std::invalid_argument("setCellPressures: expected one pressure per cell");
+  for (double p : pressures)
+    if (!std::isfinite(p)) throw std::invalid_argument("setCellPressures: non-finite pressure");
+  cellPressure_ = std::move(pressures);
+  rebuildPressureLoads();
+}
+
+void Model::setUniformPressure(double p) {
+  setCellPressures(std::vector<double>(cc_->cellCount(), p));
+}
+
+void Model::rebuildPressureLoads() {
+  pressureLoads_.clear();
+  const CellComplex& c = *cc_;
+  for (int t = 0; t < c.triangleCount(); ++t) {
+    const Wall& w = c.walls[c.triangleWall[t]];
+    const double pin = w.cell >= 0 ? cellPressure_[w.cell] : 0.0;
+    const double pout = w.neighbor >= 0 ? cellPressure_[w.neighbor] : 0.0;
+    if (pin != pout) pressureLoads_.emplace_back(t, pin - pout);
+  }
+}
+
+void Model::setProbe(const Probe& probe) {
+  if (!(probe.radius > 0) || !probe.center.allFinite())
+    throw std::invalid_argument("probe radius must be positive and its centre finite");
+  probe_ = probe;
+}
+
+template <class Fn>
+void Model::forContactTriangles(const Points& x, Fn&& fn) const {
+  if (!probe_) return;
+  const Vec3 p = probe_->center;
+  const double r = probe_->radius;
+  for (int t : topo_.outerTriangles) {
+    const auto& tri = cc_->triangles[t];
+    const Vec3 a = x.col(tri[0]), b = x.col(tri[1]), c = x.col(tri[2]);
+    const Vec3 lo = a.cwiseMin(b).cwiseMin(c).array() - r;
+    const Vec3 hi = a.cwiseMax(b).cwiseMax(c).array() + r;
+    if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+    fn(t, a, b, c);
+  }
+}
+
+double Model::energy(const Points& x, EnergyParts* parts) const {
+  EnergyParts e;
+  const CellComplex& c = *cc_;
+  const double mu = material_.mu(), lam = material_.lambdaPlaneStress(), h = material_.thickness;
+  for (int t = 0; t < c.triangleCount(); ++t) {
+    const auto& tri = c.triangles[t];
+    e.membrane += membraneEnergy(membraneRest_[t], x.col(tri[0]), x.col(tri[1]), x.col(tri[2]), mu,
+                                 lam, h, nullptr, nullptr);
+  }
+  e.magnitude += membraneMagnitude_;
+  if (material_.bending != BendingModel::None)
+    for (size_t k = 0; k < topo_.hinges.size(); ++k) {
+      const auto& v = topo_.hinges[k].v;
+      e.bending += material_.bending == BendingModel::Hinge
+                       ? hingeEnergy(hingeRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]),
+                                     x.col(v[3]), nullptr, nullptr)
+                       : linearBendingEnergy(linearRest_[k], x.col(v[0]), x.col(v[1]),
+                                             x.col(v[2]), x.col(v[3]), nullptr, nullptr);
+    }
+  for (const auto& [t, dp] : pressureLoads_) {
+    const auto& tri = c.triangles[t];
+    const double w = pressureEnergy(dp, x.col(tri[0]), x.col(tri[1]), x.col(tri[2]), nullptr, nullptr);
+    e.pressure += w;
+    e.magnitude += std::abs(w);
+  }
+  forContactTriangles(x, [&](int, const Vec3& a, const Vec3& b, const Vec3& cc) {
+    e.contact += sphereTriangleEnergy(contact_, probe_->center, probe_->radius, a, b, cc, nullptr,
+                                      nullptr);
+  });
+  for (const auto& [v, f] : pointForces_) {
+    e.external -= f.dot(x.col(v));
+    e.magnitude += std::abs(f.dot(x.col(v)));
+  }
+  e.magnitude += std::abs(e.bending) + std::abs(e.contact);
+  if (parts) *parts = e;
+  return e.total();
+}
+
+void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
+  const CellComplex& c = *cc_;
+  const int V = c.vertexCount();
+  out.energy = EnergyParts{};
+  out.gradient.setZero(3 * V);
+  out.loadGradient.setZero(3 * V);
+  out.probeGradient.setZero();
+  out.probeHessian.setZero();
+  out.probeCoupling.setZero(3 * V, 3);
+  out.contactTriangles = 0;
+  if (withHessian) out.hessian.assign(pattern_.nnz(), 0.0);
+  double* grad = out.gradient.data();
+  double* load = out.loadGradient.data();
+  double* vals = withHessian ? out.hessian.data() : nullptr;
+
+  const double mu = material_.mu(), lam = material_.lambdaPlaneStress(), h = material_.thickness;
+  Vec9 g9;
+  Mat9 H9;
+  for (int t = 0; t < c.triangleCount(); ++t) {
+    const auto& tri = c.triangles[t];
+    out.energy.membrane += membraneEnergy(membraneRest_[t], x.col(tri[0]), x.col(tri[1]),
+                                          x.col(tri[2]), mu, lam, h, &g9,
+                                          withHessian ? &H9 : nullptr);
+    scatter<9>(&triangleVerts_[3 * t], triangleSlots_.element(t), g9, withHessian ? &H9 : nullptr,
+               grad, vals);
+  }
+  Vec12 g12;
+  Mat12 H12;
+  if (material_.bending != BendingModel::None)
+    for (size_t k = 0; k < topo_.hinges.size(); ++k) {
+      const auto& v = topo_.hinges[k].v;
+      out.energy.bending +=
+          material_.bending == BendingModel::Hinge
+              ? hingeEnergy(hingeRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
+                            &g12, withHessian ? &H12 : nullptr)
+              : linearBendingEnergy(linearRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]),
+                                    x.col(v[3]), &g12, withHessian ? &H12 : nullptr);
+      scatter<12>(&hingeVerts_[4 * k], hingeSlots_.element(static_cast<int>(k)), g12,
+                  withHessian ? &H12 : nullptr, grad, vals);
+    }
+  for (const auto& [t, dp] : pressureLoads_) {
+    const auto& tri = c.triangles[t];
+    const double w = pressureEnergy(dp, x.col(tri[0]), x.col(tri[1]), x.col(tri[2]), &g9,
+                                    withHessian ? &H9 : nullptr);
+    out.energy.pressure += w;
+    out.energy.magnitude += std::abs(w);
+    scatter<9>(&triangleVerts_[3 * t], triangleSlots_.element(t), g9, withHessian ? &H9 : nullptr,
+               grad, vals);
+    for (int i = 0; i < 9; ++i) load[3 * tri[i / 3] + i % 3] += g9[i];
+  }
+  forContactTriangles(x, [&](int t, const Vec3& a, const Vec3& b, const Vec3& cpos) {
+    const double w = sphereTriangleEnergy(contact_, probe_->center, probe_->radius, a, b, cpos,
+                                          &g12, withHessian ? &H12 : nullptr);
+    if (w == 0.0 && g12.isZero()) return;
+    ++out.contactTriangles;
+    out.energy.contact += w;
+    const Vec9 gx = g12.tail<9>();
+    const Mat9 Hx = H12.bottomRightCorner<9, 9>();
+    scatter<9>(&triangleVerts_[3 * t], triangleSlots_.element(t), gx, withHessian ? &Hx : nullptr,
+               grad, vals);
+    const auto& tri = c.triangles[t];
+    for (int i = 0; i < 9; ++i) load[3 * tri[i / 3] + i % 3] += gx[i];
+    out.probeGradient += g12.head<3>();
+    if (withHessian) {
+      out.probeHessian += H12.topLeftCorner<3, 3>();
+      for (int i = 0; i < 9; ++i) out.probeCoupling.row(3 * tri[i / 3] + i % 3) += H12.block<1, 3>(3 + i, 0);
+    }
+  });
+  for (const auto& [v, f] : pointForces_) {
+    out.energy.external -= f.dot(x.col(v));
+    out.energy.magnitude += std::abs(f.dot(x.col(v)));
+    out.gradient.segment<3>(3 * v) -= f;
+    out.loadGradient.segment<3>(3 * v) -= f;
+  }
+  out.energy.magnitude += membraneMagnitude_ + std::abs(out.energy.bending) +
+                          std::abs(out.energy.contact);
+}
+
+std::vector<MembraneStress> Model::triangleStresses(const Points& x) const {
+  const CellComplex& c = *cc_;
+  std::vector<MembraneStress> s(c.triangleCount());
+  const double mu = material_.mu(), lam = material_.lambdaPlaneStress();
+  for (int t = 0; t < c.triangleCount(); ++t) {
+    const auto& tri = c.triangles[t];
+    s[t] = membraneStress(membraneRest_[t], x.col(tri[0]), x.col(tri[1]), x.col(tri[2]), mu, lam);
+  }
+  return s;
+}
+
+std::vector<double> Model::triangleBendingEnergy(const Points& x) const {
+  std::vector<double> e(cc_->triangleCount(), 0.0);
+  if (material_.bending == BendingModel::None) return e;
+  for (size_t k = 0; k < topo_.hinges.size(); ++k) {
+    const auto& hg = topo_.hinges[k];
+    const auto& v = hg.v;
+    const double w = material_.bending == BendingModel::Hinge
+                         ? hingeEnergy(hingeRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]),
+                                       x.col(v[3]), nullptr, nullptr)
+                         : linearBendingEnergy(linearRest_[k], x.col(v[0]), x.col(v[1]),
+                                               x.col(v[2]), x.col(v[3]), nullptr, nullptr);
+    e[hg.triA] += 0.5 * w;
+    e[hg.triB] += 0.5 * w;
+  }
+  return e;
+}
+
+}  // namespace tp

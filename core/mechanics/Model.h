@@ -1,0 +1,112 @@
+#pragma once
+// The total potential energy of a tissue: membrane + bending + turgor + probe contact + point
+// loads, with value, gradient and sparse Hessian over the free unknowns.
+// Units: µm, MPa, µN, pJ. Positions are a 3×V matrix (one column per vertex).
+
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "mechanics/Assembly.h"
+#include "mechanics/Bending.h"
+#include "mechanics/Contact.h"
+#include "mechanics/Material.h"
+#include "mechanics/Membrane.h"
+#include "mesh/CellComplex.h"
+#include "mesh/Topology.h"
+
+namespace tp {
+
+struct EnergyParts {
+  double membrane = 0, bending = 0, pressure = 0, contact = 0, external = 0;
+  /// Sum of the magnitudes that cancel inside the total (e.g. μ·I₁·h·A₀ per triangle, |p V| per
+  /// pressure term): the total is only known to about 1e-15 of this (round-off scale).
+  double magnitude = 0;
+  double total() const { return membrane + bending + pressure + contact + external; }
+};
+
+/// One evaluation of the model at positions x.
+struct Evaluation {
+  EnergyParts energy;
+  Eigen::VectorXd gradient;      // 3V, ∂W/∂x (all components, clamped ones included)
+  Eigen::VectorXd loadGradient;  // 3V, the part due to loads (pressure, contact, point forces)
+  std::vector<double> hessian;   // values over Model::pattern() (free unknowns, upper triangle)
+  // Probe: derivatives with respect to the sphere's centre p.
+  Vec3 probeGradient = Vec3::Zero();  // ∂W/∂p: the force the probe exerts on the tissue (µN)
+  Mat3 probeHessian = Mat3::Zero();   // ∂²W/∂p²
+  Eigen::MatrixX3d probeCoupling;     // 3V × 3, ∂²W/∂x∂p
+  int contactTriangles = 0;           // triangles touched by the probe
+};
+
+struct Probe {
+  Vec3 center = Vec3::Zero();  // µm
+  double radius = 1.0;         // µm
+};
+
+class Model {
+ public:
+  Model(std::shared_ptr<const CellComplex> cc, const Material& material);
+
+  const CellComplex& complex() const { return *cc_; }
+  std::shared_ptr<const CellComplex> complexPtr() const { return cc_; }
+  const Topology& topology() const { return topo_; }
+  const Material& material() const { return material_; }
+
+  /// Turgor pressure (MPa) of every cell, or one value for all cells.
+  void setCellPressures(std::vector<double> pressures);
+  void setUniformPressure(double p);
+  const std::vector<double>& cellPressures() const { return cellPressure_; }
+
+  /// Clamped position components (3V flags); by default those of the complex's clamped vertices.
+  void setFixedDofs(const std::vector<std::uint8_t>& fixedDof);
+  const DofMap& dofs() const { return dofs_; }
+  const SparsePattern& pattern() const { return pattern_; }
+
+  /// Point loads (µN) on vertices: W = −Σ f·x.
+  void setPointForces(std::vector<std::pair<int, Vec3>> forces) { pointForces_ = std::move(forces); }
+
+  void setProbe(const Probe& probe);
+  void clearProbe() { probe_.reset(); }
+  const std::optional<Probe>& probe() const { return probe_; }
+  void setContactLaw(const ContactLaw& law) { contact_ = law; }
+  const ContactLaw& contactLaw() const { return contact_; }
+
+  double energy(const Points& x, EnergyParts* parts = nullptr) const;
+  void evaluate(const Points& x, Evaluation& out, bool withHessian) const;
+
+  /// Membrane stress of every triangle at positions x.
+  std::vector<MembraneStress> triangleStresses(const Points& x) const;
+  /// Bending energy per triangle (half of each of its hinges), pJ.
+  std::vector<double> triangleBendingEnergy(const Points& x) const;
+
+  /// Typical edge length of the rest mesh (µm).
+  double meanEdgeLength() const { return meanEdge_; }
+
+ private:
+  void rebuildPressureLoads();
+  template <class Fn>
+  void forContactTriangles(const Points& x, Fn&& fn) const;
+
+  std::shared_ptr<const CellComplex> cc_;
+  Topology topo_;
+  Material material_;
+  double meanEdge_ = 1.0;
+  double membraneMagnitude_ = 0;  // Σ 2(μ + λ*) h A₀: the size of the terms Ψ is the difference of
+
+  std::vector<MembraneRest> membraneRest_;
+  std::vector<HingeRest> hingeRest_;
+  std::vector<LinearBendingRest> linearRest_;
+  std::vector<double> cellPressure_;
+  std::vector<std::pair<int, double>> pressureLoads_;  // (triangle, Δp) with Δp ≠ 0
+  std::vector<std::pair<int, Vec3>> pointForces_;
+  std::optional<Probe> probe_;
+  ContactLaw contact_;
+
+  std::vector<int> triangleVerts_, hingeVerts_;  // flattened element vertex lists
+  DofMap dofs_;
+  SparsePattern pattern_;
+  SlotTable triangleSlots_, hingeSlots_;
+};
+
+}  // namespace tp

@@ -1,0 +1,44 @@
+#pragma once
+// Sparse symmetric positive-definite solver: CHOLMOD supernodal Cholesky behind a small interface
+// that keeps the symbolic analysis (fill-reducing ordering, supernodes) across numeric
+// factorisations, and checks the values are finite before factorising.
+// (geometry-central's stateful solver and libigl's precompute/solve split are the model.)
+
+#include <memory>
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "mechanics/Assembly.h"
+
+namespace tp {
+
+class CholmodSolver {
+ public:
+  CholmodSolver();
+  ~CholmodSolver();
+  CholmodSolver(const CholmodSolver&) = delete;
+  CholmodSolver& operator=(const CholmodSolver&) = delete;
+
+  /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
+  void analyze(const SparsePattern& pattern);
+  bool analyzed() const;
+
+  enum class Status { Ok, NotPositiveDefinite, NonFinite, Failed };
+  /// Numeric factorisation of A + shift·I with A's values over the analysed pattern.
+  Status factorize(std::span<const double> values, double shift = 0.0);
+  /// Solves A x = b with the last successful factorisation.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
+  /// Nonzeros of the factor L (after a factorisation), for reports.
+  double factorNonzeros() const;
+  std::string lastMessage() const { return message_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string message_;
+};
+
+}  // namespace tp

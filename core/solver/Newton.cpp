@@ -1,0 +1,199 @@
+#include "solver/Newton.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace tp {
+
+StaticSolver::StaticSolver(Model& model, SolverOptions options)
+    : model_(model), options_(options) {
+  if (std::getenv("TP_NEWTON_VERBOSE")) options_.verbose = true;  // debugging aid
+}
+
+double StaticSolver::totalEnergy(const Points& x, const ForceControl* fc, double travel,
+                                 double* magnitude) {
+  EnergyParts parts;
+  double e;
+  if (fc) {
+    Probe p = *model_.probe();
+    p.center = fc->origin + travel * fc->axis;
+    model_.setProbe(p);
+    e = model_.energy(x, &parts) - fc->force * travel;
+    parts.magnitude += std::abs(fc->force * travel);
+  } else {
+    e = model_.energy(x, &parts);
+  }
+  if (magnitude) *magnitude = parts.magnitude;
+  return e;
+}
+
+double StaticSolver::residualNorm(const Points& x, const ForceControl* fc, double travel) {
+  Evaluation e;
+  if (fc) {
+    Probe p = *model_.probe();
+    p.center = fc->origin + travel * fc->axis;
+    model_.setProbe(p);
+  }
+  model_.evaluate(x, e, false);
+  double r2 = 0;
+  for (int dof : model_.dofs().freeDofs()) r2 += e.gradient[dof] * e.gradient[dof];
+  if (fc) r2 += std::pow(fc->axis.dot(e.probeGradient) - fc->force, 2);
+  return std::sqrt(r2);
+}
+
+SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
+  SolveReport rep;
+  const DofMap& dofs = model_.dofs();
+  const SparsePattern& pattern = model_.pattern();
+  const int n = dofs.freeCount();
+  const auto& freeDofs = dofs.freeDofs();
+  if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
+  if (analyzedFor_ != &pattern || analyzedNnz_ != pattern.nnz()) {
+    chol_.analyze(pattern);
+    analyzedFor_ = &pattern;
+    analyzedNnz_ = pattern.nnz();
+  }
+  std::vector<int> diagPos(n);
+  for (int j = 0; j < n; ++j) diagPos[j] = pattern.colPtr[j + 1] - 1;  // row == col comes last
+
+  const Points x0 = x;
+  const double travel0 = fc ? fc->travel : 0.0;
+  double travel = travel0;
+  const Material& mat = model_.material();
+  const double stiffScale = mat.youngModulus * mat.thickness;          // µN/µm
+  const double floor = 1e-10 * stiffScale * model_.meanEdgeLength();  // µN, for load-free states
+  // Below this the residual is round-off: nodal forces are differences of terms of size
+  // ~ (μ+λ*) h ℓ, each known to ~1e-16 of itself.
+  const double noiseFloor = 1e-14 * 2 * (mat.mu() + mat.lambdaPlaneStress()) * mat.thickness *
+                            model_.meanEdgeLength() * std::sqrt(static_cast<double>(n));
+  const double maxProbeStep =
+      options_.maxProbeStep > 0 ? options_.maxProbeStep
+                                : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
+
+  Eigen::VectorXd g(n), dx(n), z2(n), b(n);
+  double shift = lastShift_ > 0 ? lastShift_ * 0.1 : 0.0;
+  auto fail = [&](const std::string& why) {
+    x = x0;
+    if (fc) {
+      fc->travel = travel0;
+      Probe p = *model_.probe();
+      p.center = fc->origin + travel0 * fc->axis;
+      model_.setProbe(p);
+    }
+    rep.converged = false;
+    rep.message = why;
+    return rep;
+  };
+
+  for (int it = 0;; ++it) {
+    if (fc) {
+      Probe p = *model_.probe();
+      p.center = fc->origin + travel * fc->axis;
+      model_.setProbe(p);
+    }
+    model_.evaluate(x, ev_, true);
+    rep.energy = ev_.energy.total() - (fc ? fc->force * travel : 0.0);
+    if (!std::isfinite(rep.energy)) return fail("energy is not finite");
+    double loadNorm2 = 0;
+    for (int i = 0; i < n; ++i) {
+      g[i] = ev_.gradient[freeDofs[i]];
+      loadNorm2 += ev_.loadGradient[freeDofs[i]] * ev_.loadGradient[freeDofs[i]];
+    }
+    double gs = 0;
+    if (fc) gs = fc->axis.dot(ev_.probeGradient) - fc->force;
+    rep.loadScale = std::sqrt(loadNorm2) + (fc ? std::abs(fc->force) : 0.0) + floor;
+    rep.residual = std::sqrt(g.squaredNorm() + gs * gs);
+    rep.iterations = it;
+    if (options_.verbose)
+      std::fprintf(stderr, "  newton %2d  E=%.12g  |g|=%.3e  rel=%.3e  shift=%.2e  contact=%d\n",
+                   it, rep.energy, rep.residual, rep.relativeResidual(), shift,
+                   ev_.contactTriangles);
+    if (!std::isfinite(rep.residual)) return fail("residual is not finite");
+    if (rep.residual <= std::max(options_.tolerance * rep.loadScale, noiseFloor)) {
+      rep.converged = true;
+      if (fc) fc->travel = travel;
+      lastShift_ = shift;
+      return rep;
+    }
+    if (it >= options_.maxIterations) {
+      std::ostringstream s;
+      s << "did not converge in " << it << " iterations (relative residual "
+        << rep.relativeResidual() << ")";
+      return fail(s.str());
+    }
+
+    // Newton direction with a growing diagonal shift until the factorisation succeeds.
+    double maxDiag = 0;
+    for (int j = 0; j < n; ++j) maxDiag = std::max(maxDiag, std::abs(ev_.hessian[diagPos[j]]));
+    if (maxDiag == 0) maxDiag = stiffScale;
+    bool factored = false;
+    for (int attempt = 0; attempt < 40; ++attempt) {
+      ++rep.factorizations;
+      const auto st = chol_.factorize(ev_.hessian, shift);
+      if (st == CholmodSolver::Status::Ok) {
+        factored = true;
+        break;
+      }
+      if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed)
+        return fail(chol_.lastMessage());
+      shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
+      if (shift > 1e6 * maxDiag) break;
+    }
+    if (!factored) return fail("tangent matrix could not be made positive definite");
+    rep.maxShift = std::max(rep.maxShift, shift);
+    chol_.solve(g, dx);
+    dx = -dx;
+    double ds = 0;
+    if (fc) {
+      for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
+      const double kss = fc->axis.dot(ev_.probeHessian * fc->axis);
+      chol_.solve(b, z2);
+      double schur = kss - b.dot(z2);
+      const double schurFloor = 1e-3 * stiffScale;
+      if (!(schur > schurFloor)) schur = std::max(schur, 0.0) + schurFloor + shift;
+      // [K b; bᵀ kss][dx; ds] = −[g; gs], with K⁻¹g = −dx from above.
+      ds = -(gs + b.dot(dx)) / schur;
+      dx -= z2 * ds;
+    }
+    // Shrink the next shift when this one was not needed for long.
+    const double slope = g.dot(dx) + gs * ds;
+    if (!(slope < 0)) return fail("Newton direction is not a descent direction");
+
+    double alphaMax = 1.0;
+    if (fc && maxProbeStep > 0 && std::abs(ds) > maxProbeStep) alphaMax = maxProbeStep / std::abs(ds);
+
+    // Backtracking line search on the energy (Armijo). When the energy change is within its
+    // round-off (the energy is a sum of terms far larger than their total), a step is judged by
+    // the residual instead, which stays accurate.
+    const double noise = 1e-13 * (ev_.energy.magnitude + (fc ? std::abs(fc->force * travel) : 0.0));
+    double alpha = alphaMax;
+    Points xt = x;
+    bool accepted = false;
+    for (int ls = 0; ls < options_.maxLineSearch; ++ls) {
+      xt = x;
+      for (int i = 0; i < n; ++i) xt.data()[freeDofs[i]] += alpha * dx[i];
+      const double et = totalEnergy(xt, fc, travel + alpha * ds, nullptr);
+      if (std::isfinite(et) && et <= rep.energy + 1e-4 * alpha * slope) {
+        accepted = true;
+        break;
+      }
+      if (std::isfinite(et) && et <= rep.energy + noise &&
+          residualNorm(xt, fc, travel + alpha * ds) <= 0.9 * rep.residual) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) return fail("line search failed to decrease the energy");
+    x = xt;
+    travel += alpha * ds;
+    // A shift that worked is tried smaller next time; full steps suggest it is not needed.
+    shift = (alpha == 1.0) ? shift * 0.1 : shift;
+    if (shift < 1e-12 * maxDiag) shift = 0;
+  }
+}
+
+}  // namespace tp
