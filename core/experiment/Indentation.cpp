@@ -1,0 +1,291 @@
+#include "experiment/Indentation.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace tp {
+
+namespace {
+
+bool fullyClamped(const CellComplex& cc, int t) {
+  const auto& tri = cc.triangles[t];
+  return cc.fixed[tri[0]] && cc.fixed[tri[1]] && cc.fixed[tri[2]];
+}
+
+double surfaceDistance(const Model& model, const Points& x, const Vec3& p) {
+  const CellComplex& cc = model.complex();
+  double best = std::numeric_limits<double>::infinity();
+  for (int t : model.topology().outerTriangles) {
+    const auto& tri = cc.triangles[t];
+    best = std::min(best, pointTriangleDistance2(p, x.col(tri[0]), x.col(tri[1]), x.col(tri[2]),
+                                                 nullptr, nullptr, nullptr));
+  }
+  return std::sqrt(best);
+}
+
+}  // namespace
+
+Vec3 nearestSurfacePoint(const Model& model, const Points& x, const Vec3& target, int* triangle) {
+  const CellComplex& cc = model.complex();
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 bestPoint = target;
+  int bestTri = -1;
+  for (int t : model.topology().outerTriangles) {
+    if (fullyClamped(cc, t)) continue;
+    const auto& tri = cc.triangles[t];
+    Vec3 y;
+    const double d2 = pointTriangleDistance2(target, x.col(tri[0]), x.col(tri[1]), x.col(tri[2]),
+                                             nullptr, nullptr, nullptr, &y);
+    if (d2 < best) {
+      best = d2;
+      bestPoint = y;
+      bestTri = t;
+    }
+  }
+  if (bestTri < 0) throw std::runtime_error("the tissue has no free outer surface to indent");
+  if (triangle) *triangle = bestTri;
+  return bestPoint;
+}
+
+Vec3 topSurfacePoint(const Model& model, const Points& x, int* triangle) {
+  const CellComplex& cc = model.complex();
+  double bestZ = -std::numeric_limits<double>::infinity();
+  int bestV = -1;
+  for (int t : model.topology().outerTriangles) {
+    if (fullyClamped(cc, t)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int v = cc.triangles[t][k];
+      if (x(2, v) > bestZ) {
+        bestZ = x(2, v);
+        bestV = v;
+      }
+    }
+  }
+  if (bestV < 0) throw std::runtime_error("the tissue has no free outer surface to indent");
+  return nearestSurfacePoint(model, x, x.col(bestV), triangle);
+}
+
+Vec3 inwardNormal(const Model& model, const Points& x, const Vec3& site, int triangle,
+                  double radius) {
+  const CellComplex& cc = model.complex();
+  Vec3 n = Vec3::Zero();
+  for (int t : model.topology().outerTriangles) {
+    const auto& tri = cc.triangles[t];
+    const Vec3 a = x.col(tri[0]), b = x.col(tri[1]), c = x.col(tri[2]);
+    if (t != triangle &&
+        pointTriangleDistance2(site, a, b, c, nullptr, nullptr, nullptr) > radius * radius)
+      continue;
+    n += 0.5 * (b - a).cross(c - a);  // outward, area-weighted
+  }
+  if (n.norm() == 0) throw std::runtime_error("cannot compute a surface normal at the site");
+  return -n.normalized();
+}
+
+Vec3 firstContactCenter(const Model& model, const Points& x, const Vec3& site, const Vec3& axis,
+                        double radius) {
+  const double tol = 1e-10 * std::max(radius, model.meanEdgeLength());
+  Vec3 p = site - radius * axis;
+  // Back off while the sphere overlaps the surface somewhere (a concave site).
+  double gap = surfaceDistance(model, x, p) - radius;
+  for (int i = 0; i < 200 && gap < -tol; ++i) {
+    p -= (radius + std::abs(gap)) * axis;
+    gap = surfaceDistance(model, x, p) - radius;
+  }
+  if (gap < -tol) throw std::runtime_error("cannot place the probe outside the tissue");
+  // Sphere tracing forward: the distance is 1-Lipschitz, so a step of `gap` never penetrates.
+  for (int i = 0; i < 10000 && gap > tol; ++i) {
+    p += gap * axis;
+    gap = surfaceDistance(model, x, p) - radius;
+    if (gap > 1e6 * radius) throw std::runtime_error("the probe axis misses the tissue");
+  }
+  return p;
+}
+
+Indentation::Indentation(Model& model, IndentationSettings settings, SolverOptions solverOptions)
+    : model_(model), settings_(std::move(settings)), solver_(model, solverOptions) {
+  if (!(settings_.probeRadius > 0))
+    throw std::invalid_argument("probe radius must be positive (got " +
+                                std::to_string(settings_.probeRadius) + " µm)");
+  if (settings_.steps < 1) throw std::invalid_argument("steps must be at least 1");
+}
+
+SolveReport Indentation::prepare() {
+  prepared_ = false;
+  model_.clearProbe();
+  const std::vector<double> pressures = model_.cellPressures();
+  Points x = model_.complex().rest;
+  // Turgid rest state, by continuation in the pressure when one step is too much.
+  SolveReport rep;
+  double reached = 0, step = 1.0;
+  int level = 0;
+  bool anyPressure = std::any_of(pressures.begin(), pressures.end(), [](double p) { return p != 0; });
+  if (!anyPressure) {
+    rep = solver_.solve(x);
+    reached = 1.0;
+  }
+  while (reached < 1.0) {
+    const double next = std::min(1.0, reached + step);
+    std::vector<double> scaled(pressures);
+    for (double& p : scaled) p *= next;
+    model_.setCellPressures(scaled);
+    rep = solver_.solve(x);
+    if (rep.converged) {
+      reached = next;
+    } else if (level < settings_.maxSubdivisions + 3) {
+      step *= 0.5;
+      ++level;
+    } else {
+      model_.setCellPressures(pressures);
+      message_ = "the turgid state did not converge: " + rep.message;
+      return rep;
+    }
+  }
+  model_.setCellPressures(pressures);
+  if (!rep.converged) {
+    message_ = "the rest state did not converge: " + rep.message;
+    return rep;
+  }
+  turgid_ = x;
+  x_ = x;
+  xPrev_ = x;
+
+  // Site, axis and first contact on the turgid state.
+  ProbePlacement& pl = placement_;
+  pl.site = settings_.site ? nearestSurfacePoint(model_, x, *settings_.site, &pl.triangle)
+                           : topSurfacePoint(model_, x, &pl.triangle);
+  if (settings_.axis) {
+    if (!(settings_.axis->norm() > 0) || !settings_.axis->allFinite())
+      throw std::invalid_argument("the probe axis must be a non-zero vector");
+    pl.axis = settings_.axis->normalized();
+  } else {
+    pl.axis = inwardNormal(model_, x, pl.site, pl.triangle, settings_.probeRadius);
+  }
+  pl.contactCenter = firstContactCenter(model_, x, pl.site, pl.axis, settings_.probeRadius);
+  ContactLaw law = model_.contactLaw();
+  law.smoothing = 1e-3 * std::min(settings_.probeRadius, model_.meanEdgeLength());
+  model_.setContactLaw(law);
+  model_.setProbe({pl.contactCenter, settings_.probeRadius});
+  depth_ = depthPrev_ = load_ = loadPrev_ = 0;
+  havePrev_ = false;
+  forceMode_ = false;
+  prepared_ = true;
+  message_.clear();
+  return rep;
+}
+
+double Indentation::probeForce() const {
+  return placement_.axis.dot(solver_.lastEvaluation().probeGradient);
+}
+
+bool Indentation::solveAt(double target, bool forceControl, int& iterations, double& residual) {
+  const double ratio = (havePrev_ && load_ != loadPrev_) ? (target - load_) / (load_ - loadPrev_) : 0;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const bool extrapolate = attempt == 0 && ratio != 0;
+    if (attempt == 1 && ratio == 0) break;
+    Points x = extrapolate ? Points(x_ + ratio * (x_ - xPrev_)) : x_;
+    // The predictor must not move clamped components.
+    const auto& fixed = model_.complex().fixed;
+    for (int v = 0; v < x.cols(); ++v)
+      if (fixed[v]) x.col(v) = x_.col(v);
+    SolveReport rep;
+    double travel = depth_;
+    if (forceControl) {
+      ForceControl fc;
+      fc.origin = placement_.contactCenter;
+      fc.axis = placement_.axis;
+      fc.force = target;
+      fc.travel = extrapolate ? depth_ + ratio * (depth_ - depthPrev_) : depth_;
+      rep = solver_.solve(x, &fc);
+      travel = fc.travel;
+    } else {
+      model_.setProbe({placement_.contactCenter + target * placement_.axis, settings_.probeRadius});
+      rep = solver_.solve(x);
+      travel = target;
+    }
+    iterations += rep.iterations;
+    residual = rep.relativeResidual();
+    if (rep.converged) {
+      xPrev_ = x_;
+      x_ = x;
+      depthPrev_ = depth_;
+      depth_ = travel;
+      loadPrev_ = load_;
+      load_ = target;
+      havePrev_ = true;
+      return true;
+    }
+    message_ = rep.message;
+  }
+  // Leave the probe where the last equilibrium has it.
+  model_.setProbe({placement_.contactCenter + depth_ * placement_.axis, settings_.probeRadius});
+  return false;
+}
+
+CurvePoint Indentation::advance(double target, bool forceControl) {
+  if (!prepared_) throw std::logic_error("Indentation::prepare() must succeed first");
+  if (forceControl != forceMode_) {  // switching control: restate the load in the new terms
+    load_ = loadPrev_ = forceControl ? probeForce() : depth_;
+    havePrev_ = false;
+    forceMode_ = forceControl;
+  }
+  CurvePoint pt;
+  pt.unloading = std::abs(target) < std::abs(load_);
+  double step = target - load_;
+  int level = 0;
+  while (load_ != target) {
+    const double next = std::abs(target - load_) <= std::abs(step) ? target : load_ + step;
+    if (solveAt(next, forceControl, pt.iterations, pt.residual)) continue;
+    if (level >= settings_.maxSubdivisions) {
+      std::ostringstream s;
+      s << "no equilibrium at " << (forceControl ? "force " : "depth ") << next
+        << (forceControl ? " µN" : " µm") << " after " << level << " step halvings: " << message_;
+      message_ = s.str();
+      pt.converged = false;
+      pt.depth = forceControl ? depth_ : target;
+      pt.force = std::numeric_limits<double>::quiet_NaN();
+      return pt;
+    }
+    step *= 0.5;
+    ++level;
+  }
+  pt.converged = true;
+  pt.depth = depth_;
+  pt.force = probeForce();
+  return pt;
+}
+
+CurvePoint Indentation::goToDepth(double depth) {
+  if (!std::isfinite(depth)) throw std::invalid_argument("depth must be finite");
+  return advance(depth, false);
+}
+
+CurvePoint Indentation::applyForce(double force) {
+  if (!std::isfinite(force)) throw std::invalid_argument("force must be finite");
+  return advance(force, true);
+}
+
+std::vector<CurvePoint> Indentation::run(const std::function<void(int, int)>& progress,
+                                         const std::atomic<bool>* cancel) {
+  std::vector<double> schedule;
+  const bool force = settings_.control == Control::Force;
+  const double top = force ? settings_.maxForce : settings_.maxDepth;
+  for (int k = 1; k <= settings_.steps; ++k) schedule.push_back(top * k / settings_.steps);
+  if (settings_.unload)
+    for (int k = settings_.steps - 1; k >= 0; --k) schedule.push_back(top * k / settings_.steps);
+  std::vector<CurvePoint> curve;
+  curve.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
+  for (size_t i = 0; i < schedule.size(); ++i) {
+    if (cancel && cancel->load()) break;
+    CurvePoint pt = force ? applyForce(schedule[i]) : goToDepth(schedule[i]);
+    pt.unloading = settings_.unload && i >= static_cast<size_t>(settings_.steps);
+    curve.push_back(pt);
+    if (progress) progress(static_cast<int>(i + 1), static_cast<int>(schedule.size()));
+    if (!pt.converged) break;
+  }
+  return curve;
+}
+
+}  // namespace tp

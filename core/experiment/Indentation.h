@@ -1,0 +1,112 @@
+#pragma once
+// The indentation protocol (DESIGN.md §1): bring the tissue to rest under its turgor pressure,
+// choose a site on its outer surface and an axis (default: the inward normal there), bring the
+// probe to first contact with that state, then load under displacement control (a depth
+// schedule) or force control (a force schedule; the probe's travel is an unknown), optionally
+// unload, warm-starting every step from the previous ones. A step that fails is retried in
+// smaller sub-steps; if it still fails the point is reported as not converged and the state
+// stays at the last equilibrium. The turgor pressures are those set on the model.
+// Units: µm, µN, MPa.
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mechanics/Model.h"
+#include "solver/Newton.h"
+
+namespace tp {
+
+struct CurvePoint {
+  double depth = 0;      // µm, probe travel from first contact
+  double force = 0;      // µN, probe force on the tissue along the axis
+  int iterations = 0;    // Newton iterations (all sub-steps)
+  double residual = 0;   // final relative residual
+  bool converged = false;
+  bool unloading = false;
+};
+
+enum class Control { Depth, Force };
+
+struct IndentationSettings {
+  double probeRadius = 1.0;         // µm
+  std::optional<Vec3> site;         // µm; nearest outer-surface point is used; default: the top
+  std::optional<Vec3> axis;         // into the tissue; default: inward surface normal at the site
+  Control control = Control::Depth;
+  double maxDepth = 0.5;            // µm (depth control)
+  double maxForce = 1.0;            // µN (force control)
+  int steps = 10;
+  bool unload = false;
+  int maxSubdivisions = 5;          // a failed step is split up to 2^maxSubdivisions times
+};
+
+/// Where the probe touches: site on the surface, unit axis into the tissue, and the probe centre
+/// at first contact.
+struct ProbePlacement {
+  Vec3 site = Vec3::Zero();
+  Vec3 axis = -Vec3::UnitZ();
+  Vec3 contactCenter = Vec3::Zero();
+  int triangle = -1;  // outer triangle holding the site
+};
+
+/// Closest point to `target` on the outer surface, skipping fully clamped triangles.
+Vec3 nearestSurfacePoint(const Model& model, const Points& x, const Vec3& target, int* triangle);
+/// Highest outer-surface point (largest z) that is not clamped.
+Vec3 topSurfacePoint(const Model& model, const Points& x, int* triangle);
+/// Inward unit normal at a surface point: area-weighted normals of the outer triangles within
+/// `radius` of it (at least the triangle holding it).
+Vec3 inwardNormal(const Model& model, const Points& x, const Vec3& site, int triangle,
+                  double radius);
+/// Probe centre at first contact when the sphere approaches along `axis` towards `site`
+/// (sphere tracing against the outer surface).
+Vec3 firstContactCenter(const Model& model, const Points& x, const Vec3& site, const Vec3& axis,
+                        double radius);
+
+class Indentation {
+ public:
+  Indentation(Model& model, IndentationSettings settings, SolverOptions solverOptions = {});
+
+  /// Solves the turgid rest state (continuation in pressure if needed) and places the probe.
+  SolveReport prepare();
+  bool prepared() const { return prepared_; }
+
+  /// Displacement control: moves the probe to `depth` and solves (warm start, sub-steps).
+  CurvePoint goToDepth(double depth);
+  /// Force control: applies `force` with the probe travel as an unknown.
+  CurvePoint applyForce(double force);
+
+  /// The whole schedule. `progress(done, total)` is called after each point; setting `cancel`
+  /// stops after the current point.
+  std::vector<CurvePoint> run(const std::function<void(int, int)>& progress = {},
+                              const std::atomic<bool>* cancel = nullptr);
+
+  const Points& turgidState() const { return turgid_; }
+  const Points& state() const { return x_; }
+  double depth() const { return depth_; }
+  const ProbePlacement& placement() const { return placement_; }
+  const std::string& lastMessage() const { return message_; }
+  const IndentationSettings& settings() const { return settings_; }
+  Model& model() { return model_; }
+  StaticSolver& solver() { return solver_; }
+
+ private:
+  bool solveAt(double target, bool forceControl, int& iterations, double& residual);
+  CurvePoint advance(double target, bool forceControl);
+  double probeForce() const;
+
+  Model& model_;
+  IndentationSettings settings_;
+  StaticSolver solver_;
+  bool prepared_ = false;
+  Points turgid_, x_, xPrev_;
+  double depth_ = 0, depthPrev_ = 0;  // current and previous probe travel (µm)
+  double load_ = 0, loadPrev_ = 0;    // current and previous control value (depth or force)
+  bool havePrev_ = false;
+  bool forceMode_ = false;            // control of load_/loadPrev_
+  ProbePlacement placement_;
+  std::string message_;
+};
+
+}  // namespace tp

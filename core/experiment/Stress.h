@@ -1,0 +1,28 @@
+#pragma once
+// Stress read-out per triangle and per wall: in-plane Cauchy stress (MPa), principal values,
+// von Mises, strain-energy density (membrane part, MPa = pJ/µm³) and bending energy per area.
+
+#include <vector>
+
+#include "mechanics/Model.h"
+
+namespace tp {
+
+struct WallStress {
+  double area = 0;              // µm², current
+  Mat3 meanCauchy = Mat3::Zero();  // area-weighted mean of the triangles' Cauchy tensors (MPa)
+  double principalMax = 0;      // principal values of meanCauchy in the wall's mean plane (MPa)
+  double principalMin = 0;
+  double vonMises = 0;          // of the mean tensor (MPa)
+  double energyDensity = 0;     // area-weighted mean membrane strain-energy density (MPa)
+};
+
+struct StressField {
+  std::vector<MembraneStress> triangles;
+  std::vector<double> bendingEnergyDensity;  // per triangle, bending energy / (h · rest area), MPa
+  std::vector<WallStress> walls;
+};
+
+StressField computeStress(const Model& model, const Points& x);
+
+}  // namespace tp
