@@ -1,0 +1,181 @@
+// The assembled model: total gradient and sparse Hessian against finite differences (so the slot
+// tables and the scatter are checked, not only the elements), and the invariants of DESIGN.md §4.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "mechanics/Model.h"
+#include "support/FiniteDifference.h"
+#include "tissue/Shapes.h"
+
+using namespace tp;
+
+namespace {
+
+Eigen::MatrixXd denseHessian(const Model& m, const std::vector<double>& values) {
+  const SparsePattern& p = m.pattern();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(p.n, p.n);
+  for (int c = 0; c < p.n; ++c)
+    for (int k = p.colPtr[c]; k < p.colPtr[c + 1]; ++k) {
+      H(p.rowIdx[k], c) = values[k];
+      H(c, p.rowIdx[k]) = values[k];
+    }
+  return H;
+}
+
+// Positions ⇄ free unknowns.
+Eigen::VectorXd freeVector(const Model& m, const Eigen::VectorXd& full) {
+  Eigen::VectorXd u(m.dofs().freeCount());
+  for (int i = 0; i < u.size(); ++i) u[i] = full[m.dofs().freeDofs()[i]];
+  return u;
+}
+
+Points withFree(const Model& m, const Points& base, const Eigen::VectorXd& u) {
+  Points x = base;
+  for (int i = 0; i < u.size(); ++i) x.data()[m.dofs().freeDofs()[i]] = u[i];
+  return x;
+}
+
+void checkModelDerivatives(Model& m, const Points& x0, const std::string& what) {
+  Evaluation ev;
+  m.evaluate(x0, ev, true);
+  const Eigen::VectorXd u0 = freeVector(m, Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size()));
+  const auto energy = [&](const Eigen::VectorXd& u) { return m.energy(withFree(m, x0, u)); };
+  const auto gradient = [&](const Eigen::VectorXd& u) {
+    Evaluation e;
+    m.evaluate(withFree(m, x0, u), e, false);
+    return freeVector(m, e.gradient);
+  };
+  EXPECT_NEAR(ev.energy.total(), m.energy(x0), 1e-12 * (1 + std::abs(m.energy(x0)))) << what;
+  const Eigen::VectorXd g = freeVector(m, ev.gradient);
+  const Eigen::MatrixXd H = denseHessian(m, ev.hessian);
+  const double h = 1e-6 * m.meanEdgeLength();
+  EXPECT_LT(test::relError(g, test::fdGradient(energy, u0, h)), 1e-6) << what;
+  EXPECT_LT(test::relError(H, test::fdJacobian(gradient, u0, h)), 1e-5) << what;
+}
+
+Points perturbed(const Points& x, double amp, unsigned seed, const std::vector<std::uint8_t>& fixed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amp, amp);
+  Points y = x;
+  for (int v = 0; v < y.cols(); ++v)
+    if (!fixed[v])
+      for (int k = 0; k < 3; ++k) y(k, v) += u(rng);
+  return y;
+}
+
+}  // namespace
+
+TEST(ModelAssembly, GradientAndSparseHessianOfAllTermsTogether) {
+  // Two box cells, turgor, bending, a probe pressing the top: every term active at once.
+  auto cc = std::make_shared<CellComplex>(boxTissue(2, 1, 1, 1.0));
+  for (BendingModel bm : {BendingModel::Hinge, BendingModel::Linear}) {
+    Material mat;
+    mat.youngModulus = 10;
+    mat.thickness = 0.1;
+    mat.bending = bm;
+    Model m(cc, mat);
+    m.setCellPressures({0.5, 0.3});
+    m.setPointForces({{5, Vec3(0.1, -0.2, 0.3)}});
+    const Points x = perturbed(cc->rest, 0.05, 11, cc->fixed);
+    m.setProbe({Vec3(0.9, 0.5, 1.0 + 0.3 - 0.05), 0.3});
+    Evaluation ev;
+    m.evaluate(x, ev, false);
+    ASSERT_GT(ev.contactTriangles, 0);
+    ASSERT_LT(ev.energy.pressure, 0.0);
+    ASSERT_GT(ev.energy.bending, 0.0);
+    checkModelDerivatives(m, x, toString(bm));
+  }
+}
+
+TEST(ModelAssembly, PerDofClampsArePatternedOut) {
+  auto cc = std::make_shared<CellComplex>(octaSphere(1.0, 1));
+  Model m(cc, Material{});
+  std::vector<std::uint8_t> fixed(3 * cc->vertexCount(), 0);
+  fixed[0] = fixed[1] = fixed[5] = 1;  // two components of vertex 0, one of vertex 1
+  m.setFixedDofs(fixed);
+  m.setUniformPressure(0.2);
+  EXPECT_EQ(m.dofs().freeCount(), 3 * cc->vertexCount() - 3);
+  const Points x = perturbed(cc->rest, 0.05, 3, cc->fixed);
+  checkModelDerivatives(m, x, "per-dof clamps");
+}
+
+TEST(ModelInvariants, RigidMotionOfRestStateHasNoElasticEnergyOrForce) {
+  auto cc = std::make_shared<CellComplex>(boxTissue(2, 2, 1, 1.5));
+  Material mat;
+  mat.bending = BendingModel::Hinge;
+  Model m(cc, mat);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Points x = (R * cc->rest).colwise() + Vec3(3, -1, 2);
+  Evaluation ev;
+  m.evaluate(x, ev, false);
+  EXPECT_NEAR(ev.energy.total(), 0.0, 1e-12);
+  EXPECT_LT(ev.gradient.cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(ModelInvariants, ClosedCellForcesSumToZeroAndHaveNoTorque) {
+  // A free, deformed, pressurised closed cell: internal forces are self-equilibrated.
+  auto cc = std::make_shared<CellComplex>(octaSphere(2.0, 2));
+  Model m(cc, Material{});
+  m.setUniformPressure(0.8);
+  const Points x = perturbed(cc->rest, 0.2, 5, cc->fixed);
+  Evaluation ev;
+  m.evaluate(x, ev, false);
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  for (int v = 0; v < cc->vertexCount(); ++v) {
+    const Vec3 f = ev.gradient.segment<3>(3 * v);
+    force += f;
+    torque += x.col(v).cross(f);
+  }
+  const double scale = ev.gradient.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 1e-3);
+  EXPECT_LT(force.norm(), 1e-11 * scale * cc->vertexCount());
+  EXPECT_LT(torque.norm(), 1e-11 * scale * cc->vertexCount());
+}
+
+TEST(ModelInvariants, PressureForceIsPressureTimesVolumeGradient) {
+  // −∂W_p/∂x = p ∂V/∂x, with ∂V/∂x by finite differences of the cell volume.
+  auto cc = std::make_shared<CellComplex>(octaSphere(1.5, 2));
+  Material mat;
+  Model m(cc, mat);
+  const double p = 0.37;
+  m.setUniformPressure(p);
+  const Points x = perturbed(cc->rest, 0.1, 9, cc->fixed);
+  Evaluation ev;
+  m.evaluate(x, ev, false);
+  const auto volume = [&](const Eigen::VectorXd& u) {
+    const Points y = Eigen::Map<const Points>(u.data(), 3, x.cols());
+    return cellVolumes(*cc, y)[0];
+  };
+  const Eigen::VectorXd dV =
+      test::fdGradient(volume, Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()), 1e-6);
+  EXPECT_LT(test::relError(-ev.loadGradient, p * dV), 1e-8);
+}
+
+TEST(ModelInvariants, EqualPressuresCancelOnSharedWalls) {
+  // With the same pressure in both cells the shared wall carries no load: the load equals that of
+  // the pressure on the outer surface alone.
+  auto cc = std::make_shared<CellComplex>(boxTissue(2, 1, 1, 1.0));
+  Model m(cc, Material{});
+  const double p = 0.5;
+  m.setUniformPressure(p);
+  const Points x = perturbed(cc->rest, 0.05, 2, cc->fixed);
+  Evaluation ev;
+  m.evaluate(x, ev, false);
+  Eigen::VectorXd expected = Eigen::VectorXd::Zero(x.size());
+  int shared = 0;
+  for (int t = 0; t < cc->triangleCount(); ++t) {
+    const Wall& w = cc->walls[cc->triangleWall[t]];
+    if (w.neighbor >= 0) {
+      ++shared;
+      continue;
+    }
+    const auto& tri = cc->triangles[t];
+    for (int k = 0; k < 3; ++k)
+      expected.segment<3>(3 * tri[k]) -=
+          p / 6.0 * x.col(tri[(k + 1) % 3]).cross(x.col(tri[(k + 2) % 3]));
+  }
+  EXPECT_GT(shared, 0);
+  EXPECT_LT(test::relError(ev.loadGradient, expected), 1e-12);
+}
