@@ -1,0 +1,24 @@
+#pragma once
+// Writing a file so that readers see either the old content or the complete new one: the data go
+// to a temporary file in the same directory (same file system, so the final rename is atomic),
+// which is flushed, checked and then renamed over the target. On any failure the temporary file
+// is removed and the target is left exactly as it was.
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+namespace tp {
+
+/// Writes `path` atomically with the text produced by `write` (the stream is opened in binary
+/// mode, so "\n" stays "\n"). Throws std::runtime_error naming the path and the reason (the
+/// system's error text) if the temporary file cannot be created, written, flushed or renamed.
+/// An exception thrown by `write` itself is passed on unchanged after the temporary file has been
+/// removed. If `path` is a symbolic link, the file it points to is replaced and the link kept.
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// Same, with the complete contents given.
+void writeFileAtomically(const std::string& path, std::string_view contents);
+
+}  // namespace tp
