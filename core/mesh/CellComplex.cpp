@@ -80,7 +80,43 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
   }
   const double eps = 1e-12 * scale * scale;
 
-  // Ear clipping; among the valid ears take the best-shaped one (largest minimum angle).
+  // Convex polygon (Voronoi walls): the triangulation that maximises the smallest angle, by dynamic
+  // programming over diagonals (O(n³), n is small).
+  bool convex = n <= 64;
+  for (int i = 0; i < n && convex; ++i)
+    if (cross2(p2[(i + 1) % n] - p2[i], p2[(i + 2) % n] - p2[(i + 1) % n]) < -eps) convex = false;
+  if (convex) {
+    std::vector<double> best(n * n, 1e300);
+    std::vector<int> split(n * n, -1);
+    for (int gap = 2; gap < n; ++gap)
+      for (int i = 0; i + gap < n; ++i) {
+        const int j = i + gap;
+        double value = -1;
+        for (int k = i + 1; k < j; ++k) {
+          const double score = std::min({k == i + 1 ? 1e300 : best[i * n + k],
+                                         k + 1 == j ? 1e300 : best[k * n + j],
+                                         minAngle2(p2[i], p2[k], p2[j])});
+          if (score > value) {
+            value = score;
+            split[i * n + j] = k;
+          }
+        }
+        best[i * n + j] = value;
+      }
+    std::vector<std::pair<int, int>> stack = {{0, n - 1}};
+    while (!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      if (j - i < 2) continue;
+      const int k = split[i * n + j];
+      out.emplace_back(polygon[i], polygon[k], polygon[j]);
+      stack.push_back({i, k});
+      stack.push_back({k, j});
+    }
+    return out;
+  }
+
+  // General polygon: ear clipping, taking the best-shaped ear (largest minimum angle) each time.
   std::vector<int> idx(n);
   for (int i = 0; i < n; ++i) idx[i] = i;
   while (idx.size() > 3) {

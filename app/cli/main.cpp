@@ -1,0 +1,295 @@
+// tissueprobe-cli: command-line runs of the TissueProbe core.
+//   indent  one indentation curve (CSV, VTU)
+//   info    size, closedness and quality of a tissue file
+//   build   make a tissue file
+// Units everywhere: µm, MPa, µN.
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "experiment/Analysis.h"
+#include "experiment/Indentation.h"
+#include "experiment/Stress.h"
+#include "io/CurveCsv.h"
+#include "io/Paths.h"
+#include "io/Ply.h"
+#include "io/Vtu.h"
+#include "mesh/Quality.h"
+#include "tissue/Shapes.h"
+
+namespace {
+
+using namespace tp;
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+Vec3 parseVec3(const std::string& text, const std::string& option) {
+  std::stringstream ss(text);
+  Vec3 v;
+  std::string item;
+  int k = 0;
+  while (std::getline(ss, item, ',')) {
+    if (k >= 3) break;
+    try {
+      size_t used = 0;
+      v[k] = std::stod(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError(option + ": '" + item + "' is not a number (expected x,y,z in µm)");
+    }
+    if (!std::isfinite(v[k])) throw UsageError(option + ": '" + item + "' is not finite");
+    ++k;
+  }
+  if (k != 3 || ss.rdbuf()->in_avail() > 0)
+    throw UsageError(option + ": expected three comma-separated numbers, got '" + text + "'");
+  return v;
+}
+
+CellComplex loadTissue(const std::string& path) {
+  PlyInfo info;
+  CellComplex cc = readPly(path, &info);
+  const ValidityReport r = checkValidity(cc);
+  if (!r.ok()) throw std::runtime_error(path + ": not a valid tissue: " + r.summary());
+  return cc;
+}
+
+struct IndentArgs {
+  std::string mesh;
+  double E = 100.0, nu = 0.49, thickness = 0.2, pressure = 0.8;
+  std::string bending = "hinge";
+  double probeRadius = 1.0;
+  std::string site, axis;
+  std::optional<double> depth, force;
+  int steps = 10;
+  bool unload = false;
+  std::string csv, vtu;
+  double tolerance = 1e-9;
+  bool verbose = false, quiet = false;
+};
+
+int runIndent(const IndentArgs& a) {
+  if (a.depth && a.force) throw UsageError("give --depth or --force, not both");
+  if (a.steps < 1) throw UsageError("--steps must be at least 1 (got " + std::to_string(a.steps) + ")");
+  const std::string meshPath = a.mesh.empty() ? defaultTissuePath() : a.mesh;
+  auto cc = std::make_shared<CellComplex>(loadTissue(meshPath));
+
+  Material mat;
+  mat.youngModulus = a.E;
+  mat.poissonRatio = a.nu;
+  mat.thickness = a.thickness;
+  mat.bending = parseBendingModel(a.bending);
+  mat.validate();
+  if (!std::isfinite(a.pressure)) throw UsageError("--pressure must be finite");
+  Model model(cc, mat);
+  model.setUniformPressure(a.pressure);
+
+  IndentationSettings s;
+  s.probeRadius = a.probeRadius;
+  if (!a.site.empty()) s.site = parseVec3(a.site, "--site");
+  if (!a.axis.empty()) s.axis = parseVec3(a.axis, "--axis");
+  s.steps = a.steps;
+  s.unload = a.unload;
+  if (a.force) {
+    if (!(std::isfinite(*a.force) && *a.force > 0)) throw UsageError("--force must be positive");
+    s.control = Control::Force;
+    s.maxForce = *a.force;
+  } else {
+    s.maxDepth = a.depth.value_or(0.5);
+    if (!(std::isfinite(s.maxDepth) && s.maxDepth > 0)) throw UsageError("--depth must be positive");
+  }
+  SolverOptions so;
+  so.tolerance = a.tolerance;
+  so.verbose = a.verbose;
+  Indentation ind(model, s, so);
+
+  if (!a.quiet) {
+    std::printf("# tissue %s: %d cells, %d vertices, %d triangles\n", meshPath.c_str(),
+                cc->cellCount(), cc->vertexCount(), cc->triangleCount());
+    std::printf("# E = %g MPa, nu = %g, h = %g um, p = %g MPa, bending %s, probe radius %g um\n",
+                mat.youngModulus, mat.poissonRatio, mat.thickness, a.pressure,
+                toString(mat.bending).c_str(), s.probeRadius);
+  }
+  const SolveReport rest = ind.prepare();
+  if (!ind.prepared()) {
+    std::fprintf(stderr, "error: %s\n", ind.lastMessage().c_str());
+    return 3;
+  }
+  const ProbePlacement& pl = ind.placement();
+  if (!a.quiet) {
+    std::printf("# turgid state: %d Newton iterations, relative residual %.2e\n", rest.iterations,
+                rest.relativeResidual());
+    std::printf("# site (%.4g, %.4g, %.4g) um, axis (%.4f, %.4f, %.4f)\n", pl.site.x(),
+                pl.site.y(), pl.site.z(), pl.axis.x(), pl.axis.y(), pl.axis.z());
+    std::printf("%10s %12s %6s %10s %s\n", "depth_um", "force_uN", "iters", "residual",
+                "converged");
+  }
+  const auto curve = ind.run([&](int, int) {}, nullptr);
+  if (!a.quiet)
+    for (const auto& p : curve)
+      std::printf("%10.5f %12.6g %6d %10.2e %s%s\n", p.depth, p.force, p.iterations, p.residual,
+                  p.converged ? "yes" : "NO", p.unloading ? "  (unloading)" : "");
+  if (!a.csv.empty()) writeCurveCsv(a.csv, curve);
+  if (!a.vtu.empty()) {
+    const StressField st = computeStress(model, ind.state());
+    const int T = cc->triangleCount(), V = cc->vertexCount();
+    VtuField sigma{"cauchy_stress_MPa", 9, {}}, s1{"principal_max_MPa", 1, {}},
+        s2{"principal_min_MPa", 1, {}}, vm{"von_mises_MPa", 1, {}}, sed{"strain_energy_density_MPa", 1, {}},
+        bend{"bending_energy_density_MPa", 1, {}};
+    for (int t = 0; t < T; ++t) {
+      const auto& ts = st.triangles[t];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) sigma.values.push_back(ts.cauchy(i, j));
+      s1.values.push_back(ts.principalMax);
+      s2.values.push_back(ts.principalMin);
+      vm.values.push_back(ts.vonMises);
+      sed.values.push_back(ts.energyDensity);
+      bend.values.push_back(st.bendingEnergyDensity[t]);
+    }
+    VtuField disp{"displacement_um", 3, {}}, dispRest{"displacement_from_rest_um", 3, {}};
+    for (int v = 0; v < V; ++v)
+      for (int k = 0; k < 3; ++k) {
+        disp.values.push_back(ind.state()(k, v) - ind.turgidState()(k, v));
+        dispRest.values.push_back(ind.state()(k, v) - cc->rest(k, v));
+      }
+    writeVtu(a.vtu, *cc, ind.state(), {disp, dispRest}, {sigma, s1, s2, vm, sed, bend});
+  }
+  const bool ok = !curve.empty() && curve.back().converged;
+  if (!a.quiet) {
+    const double Eapp = hertzApparentModulus(curve, s.probeRadius, mat.poissonRatio);
+    std::printf("# secant stiffness %.6g uN/um, Hertz apparent modulus %.6g MPa\n",
+                secantStiffness(curve), Eapp);
+  }
+  if (!ok) {
+    std::fprintf(stderr, "error: %s\n", ind.lastMessage().c_str());
+    return 3;
+  }
+  return 0;
+}
+
+int runInfo(const std::string& path) {
+  PlyInfo info;
+  const CellComplex cc = readPly(path, &info);
+  const MeshQuality q = measureQuality(cc);
+  std::printf("file             %s (%s)\n", path.c_str(), info.format.c_str());
+  std::printf("%s", formatQuality(q).c_str());
+  if (!info.ignoredElements.empty() || !info.ignoredProperties.empty()) {
+    std::printf("ignored          ");
+    for (const auto& e : info.ignoredElements) std::printf("element %s; ", e.c_str());
+    for (const auto& p : info.ignoredProperties) std::printf("%s; ", p.c_str());
+    std::printf("\n");
+  }
+  for (const auto& n : info.notes) std::printf("note:    %s\n", n.c_str());
+  return q.validity.ok() ? 0 : 1;
+}
+
+struct BuildArgs {
+  std::string box;
+  double cellSize = 6.0;
+  std::string out;
+  bool binary = false;
+};
+
+int runBuild(const BuildArgs& b) {
+  if (b.out.empty()) throw UsageError("--out FILE.ply is required");
+  CellComplex cc;
+  if (!b.box.empty()) {
+    int n[3];
+    if (std::sscanf(b.box.c_str(), "%d,%d,%d", &n[0], &n[1], &n[2]) != 3 || n[0] < 1 || n[1] < 1 ||
+        n[2] < 1)
+      throw UsageError("--box: expected three positive cell counts NX,NY,NZ, got '" + b.box + "'");
+    cc = boxTissue(n[0], n[1], n[2], b.cellSize);
+  } else {
+    throw UsageError("choose what to build: --box NX,NY,NZ");
+  }
+  writePly(b.out, cc, nullptr, b.binary);
+  std::printf("wrote %s\n%s", b.out.c_str(), formatQuality(measureQuality(cc)).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"TissueProbe command line: AFM-style spherical indentation of a plant tissue.\n"
+               "Units: lengths in um, moduli and pressures in MPa, forces in uN."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "tissueprobe-cli 0.1");
+
+  IndentArgs ia;
+  auto* indent = app.add_subcommand("indent", "Run one indentation and print the force-depth curve");
+  indent->add_option("--mesh", ia.mesh, "Tissue file (PLY); default: the shipped default tissue")
+      ->check(CLI::ExistingFile);
+  indent->add_option("--E", ia.E, "Young's modulus of the walls, MPa")->capture_default_str();
+  indent->add_option("--nu", ia.nu, "Poisson ratio of the walls")->capture_default_str();
+  indent->add_option("--thickness", ia.thickness, "Wall thickness h, um")->capture_default_str();
+  indent->add_option("--pressure", ia.pressure, "Turgor pressure of every cell, MPa")
+      ->capture_default_str();
+  indent->add_option("--bending", ia.bending, "Bending model: hinge | linear | none")
+      ->check(CLI::IsMember({"hinge", "linear", "none"}))
+      ->capture_default_str();
+  indent->add_option("--probe-radius", ia.probeRadius, "Radius of the spherical probe, um")
+      ->capture_default_str();
+  indent->add_option("--site", ia.site,
+                     "Indentation site x,y,z in um; the nearest outer-surface point is used "
+                     "(default: the top of the tissue)");
+  indent->add_option("--axis", ia.axis,
+                     "Probe direction dx,dy,dz into the tissue (default: the inward surface "
+                     "normal at the site)");
+  auto* depthOpt = indent->add_option("--depth", ia.depth,
+                                      "Displacement control: final depth from first contact, um "
+                                      "(default 0.5)");
+  auto* forceOpt = indent->add_option("--force", ia.force, "Force control: final force, uN");
+  depthOpt->excludes(forceOpt);
+  indent->add_option("--steps", ia.steps, "Number of loading steps")->capture_default_str();
+  indent->add_flag("--unload", ia.unload, "Unload back to zero after loading");
+  indent->add_option("--csv", ia.csv, "Write the curve as CSV (depth_um,force_uN,iterations,"
+                                      "residual,converged)");
+  indent->add_option("--vtu", ia.vtu,
+                     "Write the final deformed state with per-triangle stress (MPa) for ParaView");
+  indent->add_option("--tolerance", ia.tolerance,
+                     "Newton tolerance on the residual relative to the load scale")
+      ->capture_default_str();
+  indent->add_flag("--verbose", ia.verbose, "Print every Newton iteration");
+  indent->add_flag("--quiet", ia.quiet, "Print nothing but errors");
+
+  std::string infoPath;
+  auto* info = app.add_subcommand("info", "Cells, walls, vertices, triangles, closedness, volume "
+                                          "and quality of a tissue file");
+  info->add_option("file", infoPath, "Tissue file (PLY)")->required()->check(CLI::ExistingFile);
+
+  BuildArgs ba;
+  auto* build = app.add_subcommand("build", "Make a tissue file");
+  build->add_option("--box", ba.box, "A block of NX,NY,NZ cubic cells, base clamped");
+  build->add_option("--cell-size", ba.cellSize, "Cell size, um")->capture_default_str();
+  build->add_option("--out", ba.out, "Output tissue file (PLY)")->required();
+  build->add_flag("--binary", ba.binary, "Write binary little-endian PLY");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*indent) return runIndent(ia);
+    if (*info) return runInfo(infoPath);
+    if (*build) return runBuild(ba);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
