@@ -17,11 +17,15 @@
 #include "experiment/Analysis.h"
 #include "experiment/Indentation.h"
 #include "experiment/Stress.h"
+#include "io/Centroids.h"
 #include "io/CurveCsv.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
 #include "io/Vtu.h"
 #include "mesh/Quality.h"
+#include "tissue/Meristem.h"
+#include "tissue/RealTissue.h"
+#include "tissue/Refine.h"
 #include "tissue/Shapes.h"
 
 namespace {
@@ -71,6 +75,8 @@ struct IndentArgs {
   std::optional<double> depth, force;
   int steps = 10;
   bool unload = false;
+  int refine = 0;
+  double refineRadius = 0;
   std::string csv, vtu;
   double tolerance = 1e-9;
   bool verbose = false, quiet = false;
@@ -81,6 +87,10 @@ int runIndent(const IndentArgs& a) {
   if (a.steps < 1) throw UsageError("--steps must be at least 1 (got " + std::to_string(a.steps) + ")");
   const std::string meshPath = a.mesh.empty() ? defaultTissuePath() : a.mesh;
   auto cc = std::make_shared<CellComplex>(loadTissue(meshPath));
+  std::optional<Vec3> site;
+  if (!a.site.empty()) site = parseVec3(a.site, "--site");
+  if (a.refine < 0 || a.refine > 6)
+    throw UsageError("--refine must be between 0 and 6 (got " + std::to_string(a.refine) + ")");
 
   Material mat;
   mat.youngModulus = a.E;
@@ -89,12 +99,9 @@ int runIndent(const IndentArgs& a) {
   mat.bending = parseBendingModel(a.bending);
   mat.validate();
   if (!std::isfinite(a.pressure)) throw UsageError("--pressure must be finite");
-  Model model(cc, mat);
-  model.setUniformPressure(a.pressure);
-
   IndentationSettings s;
   s.probeRadius = a.probeRadius;
-  if (!a.site.empty()) s.site = parseVec3(a.site, "--site");
+  s.site = site;
   if (!a.axis.empty()) s.axis = parseVec3(a.axis, "--axis");
   s.steps = a.steps;
   s.unload = a.unload;
@@ -106,6 +113,37 @@ int runIndent(const IndentArgs& a) {
     s.maxDepth = a.depth.value_or(0.5);
     if (!(std::isfinite(s.maxDepth) && s.maxDepth > 0)) throw UsageError("--depth must be positive");
   }
+  if (a.refine > 0) {
+    // Find the site on the turgid unrefined tissue, refine the rest mesh around that material
+    // point, and indent the refined tissue at the same place.
+    Model coarse(cc, mat);
+    coarse.setUniformPressure(a.pressure);
+    Indentation probe(coarse, s);
+    probe.prepare();
+    if (!probe.prepared()) {
+      std::fprintf(stderr, "error: %s\n", probe.lastMessage().c_str());
+      return 3;
+    }
+    const ProbePlacement& pl = probe.placement();
+    const Vec3 at = restPositionOf(coarse, probe.turgidState(), pl.site, pl.triangle);
+    // Default radius: the larger of three probe radii and one cell, so the walls under the probe
+    // are refined whole.
+    double volume = 0;
+    for (double v : cellVolumes(*cc, cc->rest)) volume += v;
+    const double cell = cc->cellCount() ? std::cbrt(volume / cc->cellCount()) : 0.0;
+    const double radius = a.refineRadius > 0 ? a.refineRadius : std::max(3.0 * a.probeRadius, cell);
+    RefineReport rr;
+    cc = std::make_shared<CellComplex>(refineNear(*cc, at, radius, a.refine, &rr));
+    s.site = pl.site;
+    if (!a.quiet)
+      std::printf("# refined %d level(s) within %g um of the site: %d vertices (+%d), %d "
+                  "triangles, min angle %.2f deg\n",
+                  a.refine, radius, cc->vertexCount(), rr.addedVertices, cc->triangleCount(),
+                  rr.minAngleDeg);
+  }
+  Model model(cc, mat);
+  model.setUniformPressure(a.pressure);
+
   SolverOptions so;
   so.tolerance = a.tolerance;
   so.verbose = a.verbose;
@@ -192,6 +230,13 @@ int runInfo(const std::string& path) {
 }
 
 struct BuildArgs {
+  bool generate = false;
+  int cells = 500;
+  unsigned seed = 1;
+  double diameter = 80, stemHeight = 8, capHeight = 34;
+  std::string centroids, columns = "label,x,y,z";
+  std::optional<double> baseZ;
+  double realCellSize = 0;
   std::string box;
   double cellSize = 6.0;
   std::string out;
@@ -201,14 +246,51 @@ struct BuildArgs {
 int runBuild(const BuildArgs& b) {
   if (b.out.empty()) throw UsageError("--out FILE.ply is required");
   CellComplex cc;
-  if (!b.box.empty()) {
+  if (b.generate) {
+    MeristemParams prm;
+    prm.cells = b.cells;
+    prm.seed = b.seed;
+    prm.shape.radius = 0.5 * b.diameter;
+    prm.shape.stemHeight = b.stemHeight;
+    prm.shape.capHeight = b.capHeight;
+    MeristemReport rep;
+    cc = generateMeristem(prm, &rep);
+    std::printf("generated a meristem in %.2f s: %d cells (L1 %d, L2 %d, inner %d), seed spacing "
+                "%.2f um, %d short edges collapsed\n",
+                rep.seconds, rep.cells, rep.l1Cells, rep.l2Cells, rep.innerCells, rep.cellSpacing,
+                rep.voronoi.collapsedEdges);
+  } else if (!b.centroids.empty()) {
+    const CentroidTable table = readCentroids(b.centroids, CentroidColumns::parse(b.columns));
+    RealTissueOptions opt;
+    opt.baseZ = b.baseZ;
+    opt.cellSize = b.realCellSize;
+    RealTissueReport rep;
+    cc = tissueFromCentroids(table, opt, &rep);
+    std::printf("built a tissue from %zu centroids in %.2f s: cell size %.2f um, base plane z = "
+                "%.2f um (%d centroids below it left out), alpha shape of %d triangles\n",
+                table.points.size(), rep.seconds, rep.cellSize, rep.baseZ, rep.droppedBelowBase,
+                rep.surfaceTriangles);
+    if (!table.volumes.empty()) {
+      std::vector<double> measured, built;
+      const auto vol = cellVolumes(cc, cc.rest);
+      for (size_t c = 0; c < vol.size(); ++c) {
+        measured.push_back(table.volumes[rep.keptRows[c]]);
+        built.push_back(vol[c]);
+      }
+      std::printf("cell volumes against the measured ones: correlation %.3f\n",
+                  correlation(built, measured));
+    }
+    if (!rep.validity.ok())
+      throw std::runtime_error("the tissue built from " + b.centroids +
+                               " is not valid: " + rep.validity.summary());
+  } else if (!b.box.empty()) {
     int n[3];
     if (std::sscanf(b.box.c_str(), "%d,%d,%d", &n[0], &n[1], &n[2]) != 3 || n[0] < 1 || n[1] < 1 ||
         n[2] < 1)
       throw UsageError("--box: expected three positive cell counts NX,NY,NZ, got '" + b.box + "'");
     cc = boxTissue(n[0], n[1], n[2], b.cellSize);
   } else {
-    throw UsageError("choose what to build: --box NX,NY,NZ");
+    throw UsageError("choose what to build: --generate, --centroids FILE or --box NX,NY,NZ");
   }
   writePly(b.out, cc, nullptr, b.binary);
   std::printf("wrote %s\n%s", b.out.c_str(), formatQuality(measureQuality(cc)).c_str());
@@ -250,6 +332,13 @@ int main(int argc, char** argv) {
   depthOpt->excludes(forceOpt);
   indent->add_option("--steps", ia.steps, "Number of loading steps")->capture_default_str();
   indent->add_flag("--unload", ia.unload, "Unload back to zero after loading");
+  indent->add_option("--refine", ia.refine,
+                     "Subdivide the walls near the site this many times (each triangle into four, "
+                     "conforming transitions)")
+      ->capture_default_str();
+  indent->add_option("--refine-radius", ia.refineRadius,
+                     "Radius of the refined region around the site, um (default: the larger of 3 "
+                     "probe radii and one cell size)");
   indent->add_option("--csv", ia.csv, "Write the curve as CSV (depth_um,force_uN,iterations,"
                                       "residual,converged)");
   indent->add_option("--vtu", ia.vtu,
@@ -267,6 +356,29 @@ int main(int argc, char** argv) {
 
   BuildArgs ba;
   auto* build = app.add_subcommand("build", "Make a tissue file");
+  build->add_flag("--generate", ba.generate, "A floral meristem: a dome of Voronoi cells in L1, L2 "
+                                              "and inner layers, base clamped");
+  build->add_option("--cells", ba.cells, "Meristem: number of cells")->capture_default_str();
+  build->add_option("--seed", ba.seed, "Meristem: random seed")->capture_default_str();
+  build->add_option("--diameter", ba.diameter, "Meristem: dome diameter, um")->capture_default_str();
+  build->add_option("--stem-height", ba.stemHeight, "Meristem: height of the stem below the dome, um")
+      ->capture_default_str();
+  build->add_option("--cap-height", ba.capHeight, "Meristem: height of the dome above the stem, um")
+      ->capture_default_str();
+  build->add_option("--centroids", ba.centroids,
+                    "A real tissue from a table of cell centroids (CSV or TSV, um): Voronoi cells "
+                    "closed by the alpha shape of the centroids pushed out by half a cell")
+      ->check(CLI::ExistingFile);
+  build->add_option("--columns", ba.columns,
+                    "Centroids: the label,x,y,z[,volume] columns, by header name or 1-based "
+                    "position")
+      ->capture_default_str();
+  build->add_option("--base-z", ba.baseZ,
+                    "Centroids: height of the clamped base plane, um (default: lowest centroid "
+                    "plus one cell)");
+  build->add_option("--real-cell-size", ba.realCellSize,
+                    "Centroids: typical cell size, um (default: from the nearest-neighbour "
+                    "distances)");
   build->add_option("--box", ba.box, "A block of NX,NY,NZ cubic cells, base clamped");
   build->add_option("--cell-size", ba.cellSize, "Cell size, um")->capture_default_str();
   build->add_option("--out", ba.out, "Output tissue file (PLY)")->required();

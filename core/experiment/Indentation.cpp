@@ -51,21 +51,49 @@ Vec3 nearestSurfacePoint(const Model& model, const Points& x, const Vec3& target
 }
 
 Vec3 topSurfacePoint(const Model& model, const Points& x, int* triangle) {
+  // The highest point of the outer surface on the vertical through the surface's area-weighted
+  // centre: the apex of a dome, usually inside a wall rather than on a cell junction.
   const CellComplex& cc = model.complex();
-  double bestZ = -std::numeric_limits<double>::infinity();
-  int bestV = -1;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double area = 0;
   for (int t : model.topology().outerTriangles) {
     if (fullyClamped(cc, t)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int v = cc.triangles[t][k];
-      if (x(2, v) > bestZ) {
-        bestZ = x(2, v);
-        bestV = v;
-      }
-    }
+    const auto& tri = cc.triangles[t];
+    const double a =
+        0.5 * (x.col(tri[1]) - x.col(tri[0])).cross(x.col(tri[2]) - x.col(tri[0])).norm();
+    centre += a * (x.col(tri[0]) + x.col(tri[1]) + x.col(tri[2])).head<2>() / 3.0;
+    area += a;
   }
-  if (bestV < 0) throw std::runtime_error("the tissue has no free outer surface to indent");
-  return nearestSurfacePoint(model, x, x.col(bestV), triangle);
+  if (!(area > 0)) throw std::runtime_error("the tissue has no free outer surface to indent");
+  centre /= area;
+  double bestZ = -std::numeric_limits<double>::infinity();
+  int bestTri = -1;
+  for (int t : model.topology().outerTriangles) {
+    if (fullyClamped(cc, t)) continue;
+    const auto& tri = cc.triangles[t];
+    const Eigen::Vector2d a = x.col(tri[0]).head<2>(), b = x.col(tri[1]).head<2>(),
+                          c = x.col(tri[2]).head<2>();
+    const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (std::abs(det) < 1e-300) continue;
+    const Eigen::Vector2d q = centre - a;
+    const double u = (q.x() * (c - a).y() - q.y() * (c - a).x()) / det;
+    const double v = ((b - a).x() * q.y() - (b - a).y() * q.x()) / det;
+    if (u < 0 || v < 0 || u + v > 1) continue;
+    const double z = (1 - u - v) * x(2, tri[0]) + u * x(2, tri[1]) + v * x(2, tri[2]);
+    if (z > bestZ) bestZ = z, bestTri = t;
+  }
+  if (bestTri < 0) {  // the vertical misses the surface: take the highest vertex
+    int bestV = -1;
+    for (int t : model.topology().outerTriangles)
+      for (int k = 0; k < 3; ++k) {
+        const int v = cc.triangles[t][k];
+        if (!cc.fixed[v] && (bestV < 0 || x(2, v) > x(2, bestV))) bestV = v;
+      }
+    if (bestV < 0) throw std::runtime_error("the tissue has no free outer surface to indent");
+    return nearestSurfacePoint(model, x, x.col(bestV), triangle);
+  }
+  if (triangle) *triangle = bestTri;
+  return Vec3(centre.x(), centre.y(), bestZ);
 }
 
 Vec3 inwardNormal(const Model& model, const Points& x, const Vec3& site, int triangle,
@@ -102,6 +130,21 @@ Vec3 firstContactCenter(const Model& model, const Points& x, const Vec3& site, c
     if (gap > 1e6 * radius) throw std::runtime_error("the probe axis misses the tissue");
   }
   return p;
+}
+
+Vec3 restPositionOf(const Model& model, const Points& x, const Vec3& site, int triangle) {
+  const CellComplex& cc = model.complex();
+  if (triangle < 0 || triangle >= cc.triangleCount())
+    throw std::invalid_argument("restPositionOf: no triangle");
+  const auto& t = cc.triangles[triangle];
+  const Vec3 a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
+  const Vec3 n = (b - a).cross(c - a);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 0)) return cc.rest.col(t[0]);
+  const double wa = (c - b).cross(site - b).dot(n) / n2;
+  const double wb = (a - c).cross(site - c).dot(n) / n2;
+  const double wc = 1.0 - wa - wb;
+  return wa * cc.rest.col(t[0]) + wb * cc.rest.col(t[1]) + wc * cc.rest.col(t[2]);
 }
 
 Indentation::Indentation(Model& model, IndentationSettings settings, SolverOptions solverOptions)

@@ -53,7 +53,8 @@ struct ProbePlacement {
 
 /// Closest point to `target` on the outer surface, skipping fully clamped triangles.
 Vec3 nearestSurfacePoint(const Model& model, const Points& x, const Vec3& target, int* triangle);
-/// Highest outer-surface point (largest z) that is not clamped.
+/// The top of the tissue: the highest outer-surface point on the vertical through the centre of
+/// the free outer surface (falls back to the highest free vertex).
 Vec3 topSurfacePoint(const Model& model, const Points& x, int* triangle);
 /// Inward unit normal at a surface point: area-weighted normals of the outer triangles within
 /// `radius` of it (at least the triangle holding it).
@@ -63,6 +64,10 @@ Vec3 inwardNormal(const Model& model, const Points& x, const Vec3& site, int tri
 /// (sphere tracing against the outer surface).
 Vec3 firstContactCenter(const Model& model, const Points& x, const Vec3& site, const Vec3& axis,
                         double radius);
+
+/// The rest position of the material point at `site`, a point of the outer triangle `triangle`
+/// in the state x (barycentric transfer).
+Vec3 restPositionOf(const Model& model, const Points& x, const Vec3& site, int triangle);
 
 class Indentation {
  public:

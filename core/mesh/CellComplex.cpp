@@ -47,7 +47,8 @@ bool insideTriangle(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Ei
 }  // namespace
 
 std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
-                                                const std::vector<int>& polygon) {
+                                                const std::vector<int>& polygon,
+                                                const DiagonalFilter& allowDiagonal) {
   const int n = static_cast<int>(polygon.size());
   if (n < 3) throw std::invalid_argument("polygon with fewer than 3 vertices");
   if (n == 3) return {Eigen::Vector3i(polygon[0], polygon[1], polygon[2])};
@@ -85,6 +86,10 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
   bool convex = n <= 64;
   for (int i = 0; i < n && convex; ++i)
     if (cross2(p2[(i + 1) % n] - p2[i], p2[(i + 2) % n] - p2[(i + 1) % n]) < -eps) convex = false;
+  auto allowed = [&](int i, int j) {  // polygon positions i < j
+    if (j - i < 2 || (i == 0 && j == n - 1) || !allowDiagonal) return true;
+    return allowDiagonal(polygon[i], polygon[j]);
+  };
   if (convex) {
     std::vector<double> best(n * n, 1e300);
     std::vector<int> split(n * n, -1);
@@ -93,7 +98,9 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
         const int j = i + gap;
         double value = -1;
         for (int k = i + 1; k < j; ++k) {
-          const double score = std::min({k == i + 1 ? 1e300 : best[i * n + k],
+          // Rejected diagonals count as the worst shape, so they are used only if unavoidable.
+          const double penalty = allowed(i, k) && allowed(k, j) ? 0.0 : -10.0;
+          const double score = penalty + std::min({k == i + 1 ? 1e300 : best[i * n + k],
                                          k + 1 == j ? 1e300 : best[k * n + j],
                                          minAngle2(p2[i], p2[k], p2[j])});
           if (score > value) {
@@ -126,6 +133,7 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
     for (int k = 0; k < m; ++k) {
       const int a = idx[(k + m - 1) % m], b = idx[k], c = idx[(k + 1) % m];
       if (cross2(p2[b] - p2[a], p2[c] - p2[b]) <= eps) continue;  // reflex or flat corner
+      if (m > 3 && allowDiagonal && !allowDiagonal(polygon[a], polygon[c])) continue;
       bool empty = true;
       for (int j = 0; j < m && empty; ++j) {
         const int q = idx[j];

@@ -5,7 +5,9 @@
 // (-1 = outside the tissue). A wall with cell == -1 belongs to an open sheet (no pressure).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,9 +45,16 @@ struct CellComplex {
   bool isOuterTriangle(int t) const { return walls[triangleWall[t]].neighbor < 0; }
 };
 
-/// Triangulates a simple polygon (vertex indices into `points`) by ear clipping in its best-fit
-/// plane (Newell normal). The triangles keep the polygon's winding. Throws on fewer than 3 vertices.
-std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points, const std::vector<int>& polygon);
+/// A predicate on a candidate diagonal (two vertex indices) of a polygon being triangulated.
+using DiagonalFilter = std::function<bool(int, int)>;
+
+/// Triangulates a simple polygon (vertex indices into `points`) with n − 2 triangles in its
+/// best-fit plane (Newell normal): for a convex polygon the triangulation with the largest
+/// smallest angle, otherwise ear clipping taking the best-shaped ear. Diagonals the filter
+/// rejects are avoided when possible. The triangles keep the polygon's winding. Throws on fewer
+/// than 3 vertices.
+std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points, const std::vector<int>& polygon,
+                                                const DiagonalFilter& allowDiagonal = {});
 
 /// Signed volume of each cell at positions x (µm³), positive when the walls are wound outward.
 std::vector<double> cellVolumes(const CellComplex& cc, const Points& x);

@@ -1,0 +1,172 @@
+// Refinement near the probe: conforming, well shaped, local; the force–depth curve converges with
+// the level; a coarse mesh lets a probe through between its vertices where a refined one does not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "experiment/Indentation.h"
+#include "mesh/Quality.h"
+#include "tissue/Meristem.h"
+#include "tissue/Refine.h"
+#include "tissue/Shapes.h"
+
+using namespace tp;
+
+namespace {
+
+double maxEdge(const CellComplex& cc, int t) {
+  double m = 0;
+  for (int k = 0; k < 3; ++k)
+    m = std::max(m, (cc.rest.col(cc.triangles[t][k]) - cc.rest.col(cc.triangles[t][(k + 1) % 3])).norm());
+  return m;
+}
+
+CellComplex smallMeristem() {
+  MeristemParams p;
+  p.cells = 60;
+  p.shape.radius = 15;
+  p.shape.capHeight = 12;
+  p.shape.stemHeight = 4;
+  return generateMeristem(p);
+}
+
+}  // namespace
+
+TEST(Refine, ConformingLocalAndWellShaped) {
+  const CellComplex base = generateMeristem(MeristemParams{});
+  const MeshQuality q0 = measureQuality(base);
+  const Vec3 centre(0, 0, 41.5);
+  const double radius = 6;
+  for (int levels = 1; levels <= 3; ++levels) {
+    RefineReport rep;
+    const CellComplex cc = refineNear(base, centre, radius, levels, &rep);
+    const ValidityReport v = checkValidity(cc);  // a hanging node would leave a cell open
+    ASSERT_TRUE(v.ok()) << "level " << levels << ": " << v.summary();
+    EXPECT_EQ(v.openCells, 0);
+    // Flat subdivision keeps every cell's volume.
+    const auto vol0 = cellVolumes(base, base.rest), vol1 = cellVolumes(cc, cc.rest);
+    for (size_t c = 0; c < vol0.size(); ++c) EXPECT_NEAR(vol1[c], vol0[c], 1e-9 * vol0[c]);
+    // Local: new vertices only near the centre; the old ones untouched.
+    for (int i = 0; i < base.vertexCount(); ++i) EXPECT_EQ(cc.rest.col(i), base.rest.col(i));
+    for (int i = base.vertexCount(); i < cc.vertexCount(); ++i)
+      EXPECT_LT((cc.rest.col(i) - centre).norm(), radius + 2 * q0.meanEdge * 3);
+    // Fine near the centre: every triangle within half the radius is 2^levels times smaller.
+    double coarsestMax = 0;
+    for (int t = 0; t < base.triangleCount(); ++t) coarsestMax = std::max(coarsestMax, maxEdge(base, t));
+    for (int t = 0; t < cc.triangleCount(); ++t) {
+      const auto& tri = cc.triangles[t];
+      const Vec3 c = (cc.rest.col(tri[0]) + cc.rest.col(tri[1]) + cc.rest.col(tri[2])) / 3;
+      if ((c - centre).norm() < 0.5 * radius) {
+        EXPECT_LE(maxEdge(cc, t), coarsestMax / std::pow(2.0, levels) * 1.0001);
+      }
+    }
+    // Well shaped: red children keep their parent's angles, green halves keep at least half.
+    EXPECT_GE(rep.minAngleDeg, 0.5 * q0.minAngleDeg - 1e-9);
+    EXPECT_GT(rep.redTriangles, 0);
+    std::printf("  level %d: %d vertices (+%d), %d triangles, %d red splits, %d green closures, "
+                "min angle %.2f deg (unrefined %.2f)\n",
+                levels, cc.vertexCount(), rep.addedVertices, cc.triangleCount(), rep.redTriangles,
+                rep.greenTriangles, rep.minAngleDeg, q0.minAngleDeg);
+  }
+}
+
+TEST(Refine, JunctionEdgesSplitForEveryWall) {
+  // Box cells: every edge of the block is shared by up to four walls; refining across them must
+  // keep all cells closed.
+  const CellComplex base = boxTissue(2, 2, 2, 1.0);
+  const CellComplex cc = refineNear(base, Vec3(1, 1, 1), 0.3, 3);
+  const ValidityReport v = checkValidity(cc);
+  EXPECT_TRUE(v.ok()) << v.summary();
+  EXPECT_GT(cc.triangleCount(), base.triangleCount());
+  // Midpoints of clamped base edges are clamped, others free.
+  for (int i = 0; i < cc.vertexCount(); ++i) EXPECT_EQ(cc.fixed[i] != 0, cc.rest(2, i) == 0.0);
+}
+
+TEST(Refine, LevelZeroIsTheIdentityAndBadInputIsRefused) {
+  const CellComplex base = boxTissue(1, 1, 1, 1.0);
+  const CellComplex same = refineNear(base, Vec3(0.5, 0.5, 1), 0.2, 0);
+  EXPECT_EQ(same.triangleCount(), base.triangleCount());
+  EXPECT_THROW(refineNear(base, Vec3(0, 0, 0), -1, 1), std::invalid_argument);
+  EXPECT_THROW(refineNear(base, Vec3(0, 0, 0), 1, -1), std::invalid_argument);
+}
+
+TEST(Refine, ForceDepthCurveConvergesWithTheLevel) {
+  const CellComplex base = smallMeristem();
+  Material mat;
+  IndentationSettings s;
+  s.probeRadius = 0.5;
+  s.maxDepth = 0.2;
+  s.steps = 4;
+  // Site: the top of the turgid unrefined tissue; refinement around its rest position.
+  auto coarse = std::make_shared<CellComplex>(base);
+  Model m0(coarse, mat);
+  m0.setUniformPressure(0.8);
+  Indentation i0(m0, s);
+  ASSERT_TRUE(i0.prepare().converged);
+  const Vec3 at = restPositionOf(m0, i0.turgidState(), i0.placement().site, i0.placement().triangle);
+  s.site = i0.placement().site;
+  std::vector<double> force;
+  for (int level = 0; level <= 4; ++level) {
+    auto cc = std::make_shared<CellComplex>(refineNear(base, at, 5.0, level));
+    Model m(cc, mat);
+    m.setUniformPressure(0.8);
+    Indentation ind(m, s);
+    ASSERT_TRUE(ind.prepare().converged) << "level " << level;
+    const auto curve = ind.run();
+    ASSERT_TRUE(curve.back().converged) << "level " << level << ": " << ind.lastMessage();
+    force.push_back(curve.back().force);
+    std::printf("  level %d: %5d vertices, force at %.2f um = %.4f uN\n", level,
+                cc->vertexCount(), curve.back().depth, curve.back().force);
+  }
+  // Coarse meshes are far too stiff; the changes shrink and the last two levels agree.
+  const double first = std::abs(force[1] - force[0]), last = std::abs(force[4] - force[3]);
+  EXPECT_LT(last, 0.1 * first);
+  EXPECT_LT(last, 0.1 * force[4]);
+  for (int l = 1; l <= 4; ++l) EXPECT_LT(force[l], force[0]);
+}
+
+TEST(Refine, CoarseMeshLetsAVertexProbeThroughRefinedDoesNot) {
+  // The study's observation, with contact checked at vertices only as in the published model:
+  // a probe pushed into the middle of a coarse wall holds none of its vertices, so a vertex
+  // contact would let it through, while on the refined mesh vertices lie in its way. Contact
+  // against triangles holds the probe on both meshes.
+  const CellComplex base = smallMeristem();
+  Material mat;
+  IndentationSettings s;
+  s.probeRadius = 0.5;
+  s.maxDepth = 0.2;
+  s.steps = 2;
+  auto coarse = std::make_shared<CellComplex>(base);
+  Model m0(coarse, mat);
+  m0.setUniformPressure(0.8);
+  Indentation i0(m0, s);
+  ASSERT_TRUE(i0.prepare().converged);
+  const ProbePlacement pl = i0.placement();
+  const Vec3 at = restPositionOf(m0, i0.turgidState(), pl.site, pl.triangle);
+  for (int level : {0, 3}) {
+    auto cc = std::make_shared<CellComplex>(refineNear(base, at, 5.0, level));
+    Model m(cc, mat);
+    m.setUniformPressure(0.8);
+    IndentationSettings si = s;
+    si.site = pl.site;
+    Indentation ind(m, si);
+    ASSERT_TRUE(ind.prepare().converged);
+    // Vertices of the turgid surface in the probe's way down to the final depth.
+    const Vec3 c0 = ind.placement().contactCenter, axis = ind.placement().axis;
+    int inWay = 0;
+    for (int v = 0; v < cc->vertexCount(); ++v) {
+      const Vec3 d = ind.turgidState().col(v) - c0;
+      const double along = std::clamp(d.dot(axis), 0.0, s.maxDepth);
+      if ((d - along * axis).norm() < s.probeRadius) ++inWay;
+    }
+    const auto curve = ind.run();
+    std::printf("  level %d: %d vertices in the probe's way to %.1f um; triangle contact: %.3f uN\n",
+                level, inWay, s.maxDepth, curve.back().force);
+    if (level == 0) EXPECT_EQ(inWay, 0);
+    else EXPECT_GT(inWay, 0);
+    ASSERT_TRUE(curve.back().converged);
+    EXPECT_GT(curve.back().force, 0.0);
+  }
+}
