@@ -79,6 +79,7 @@ struct IndentArgs {
   double refineRadius = 0;
   std::string csv, vtu;
   double tolerance = 1e-9;
+  std::string solver = "newton";
   bool verbose = false, quiet = false;
 };
 
@@ -145,6 +146,9 @@ int runIndent(const IndentArgs& a) {
   model.setUniformPressure(a.pressure);
 
   SolverOptions so;
+  so.kind = parseSolverKind(a.solver);
+  if (so.kind == SolverKind::ImplicitEulerCG && a.force)
+    throw UsageError("--solver implicit-euler-cg supports --depth only");
   so.tolerance = a.tolerance;
   so.verbose = a.verbose;
   Indentation ind(model, s, so);
@@ -345,6 +349,11 @@ int main(int argc, char** argv) {
                      "Write the final deformed state with per-triangle stress (MPa) for ParaView");
   indent->add_option("--tolerance", ia.tolerance,
                      "Newton tolerance on the residual relative to the load scale")
+      ->capture_default_str();
+  indent->add_option("--solver", ia.solver,
+                     "Equilibrium solver: newton (Newton + CHOLMOD) or implicit-euler-cg (the "
+                     "published method: implicit Euler, Rayleigh damping, CG, run until rest)")
+      ->check(CLI::IsMember({"newton", "implicit-euler-cg"}))
       ->capture_default_str();
   indent->add_flag("--verbose", ia.verbose, "Print every Newton iteration");
   indent->add_flag("--quiet", ia.quiet, "Print nothing but errors");

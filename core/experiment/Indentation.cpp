@@ -148,7 +148,7 @@ Vec3 restPositionOf(const Model& model, const Points& x, const Vec3& site, int t
 }
 
 Indentation::Indentation(Model& model, IndentationSettings settings, SolverOptions solverOptions)
-    : model_(model), settings_(std::move(settings)), solver_(model, solverOptions) {
+    : model_(model), settings_(std::move(settings)), solver_(makeSolver(model, solverOptions)) {
   if (!(settings_.probeRadius > 0))
     throw std::invalid_argument("probe radius must be positive (got " +
                                 std::to_string(settings_.probeRadius) + " µm)");
@@ -166,7 +166,7 @@ SolveReport Indentation::prepare() {
   int level = 0;
   bool anyPressure = std::any_of(pressures.begin(), pressures.end(), [](double p) { return p != 0; });
   if (!anyPressure) {
-    rep = solver_.solve(x);
+    rep = solver_->solve(x);
     reached = 1.0;
   }
   while (reached < 1.0) {
@@ -174,7 +174,7 @@ SolveReport Indentation::prepare() {
     std::vector<double> scaled(pressures);
     for (double& p : scaled) p *= next;
     model_.setCellPressures(scaled);
-    rep = solver_.solve(x);
+    rep = solver_->solve(x);
     if (rep.converged) {
       reached = next;
     } else if (level < settings_.maxSubdivisions + 3) {
@@ -220,7 +220,7 @@ SolveReport Indentation::prepare() {
 }
 
 double Indentation::probeForce() const {
-  return placement_.axis.dot(solver_.lastEvaluation().probeGradient);
+  return placement_.axis.dot(solver_->lastEvaluation().probeGradient);
 }
 
 bool Indentation::solveAt(double target, bool forceControl, int& iterations, double& residual) {
@@ -241,11 +241,11 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
       fc.axis = placement_.axis;
       fc.force = target;
       fc.travel = extrapolate ? depth_ + ratio * (depth_ - depthPrev_) : depth_;
-      rep = solver_.solve(x, &fc);
+      rep = solver_->solve(x, &fc);
       travel = fc.travel;
     } else {
       model_.setProbe({placement_.contactCenter + target * placement_.axis, settings_.probeRadius});
-      rep = solver_.solve(x);
+      rep = solver_->solve(x);
       travel = target;
     }
     iterations += rep.iterations;

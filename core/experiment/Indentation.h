@@ -10,12 +10,13 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "mechanics/Model.h"
-#include "solver/Newton.h"
+#include "solver/Solver.h"
 
 namespace tp {
 
@@ -94,7 +95,7 @@ class Indentation {
   const std::string& lastMessage() const { return message_; }
   const IndentationSettings& settings() const { return settings_; }
   Model& model() { return model_; }
-  StaticSolver& solver() { return solver_; }
+  EquilibriumSolver& solver() { return *solver_; }
 
  private:
   bool solveAt(double target, bool forceControl, int& iterations, double& residual);
@@ -103,7 +104,7 @@ class Indentation {
 
   Model& model_;
   IndentationSettings settings_;
-  StaticSolver solver_;
+  std::unique_ptr<EquilibriumSolver> solver_;
   bool prepared_ = false;
   Points turgid_, x_, xPrev_;
   double depth_ = 0, depthPrev_ = 0;  // current and previous probe travel (µm)

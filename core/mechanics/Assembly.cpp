@@ -21,6 +21,22 @@ int SparsePattern::find(int row, int col) const {
   return static_cast<int>(it - rowIdx.begin());
 }
 
+void symmetricMultiply(const SparsePattern& pattern, const std::vector<double>& values,
+                       const double* v, double* y) {
+  std::fill(y, y + pattern.n, 0.0);
+  for (int j = 0; j < pattern.n; ++j) {
+    const double vj = v[j];
+    double acc = 0;
+    for (int k = pattern.colPtr[j]; k < pattern.colPtr[j + 1]; ++k) {
+      const int i = pattern.rowIdx[k];
+      const double a = values[k];
+      acc += a * v[i];
+      if (i != j) y[i] += a * vj;
+    }
+    y[j] += acc;
+  }
+}
+
 SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
                            const std::vector<std::pair<int, std::span<const int>>>& elementSets) {
   // Vertex adjacency: for each vertex b, the vertices a ≤ b sharing an element with it.

@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace tp {
 
 /// Maps the 3V position components to the free unknowns (clamped components are removed).
@@ -36,6 +38,10 @@ struct SparsePattern {
   /// Position of (row, col), row ≤ col, in the value array, or −1 if not in the pattern.
   int find(int row, int col) const;
 };
+
+/// y = A v for the symmetric matrix A given by its upper triangle over `pattern`.
+void symmetricMultiply(const SparsePattern& pattern, const std::vector<double>& values,
+                       const double* v, double* y);
 
 /// Builds the pattern from elements given as vertex lists (vertex-level adjacency, expanded to
 /// 3×3 blocks). `elements` are flattened lists of `arity` vertices each.

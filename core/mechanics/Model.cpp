@@ -7,6 +7,8 @@
 
 #include "mechanics/Pressure.h"
 
+#include <omp.h>
+
 namespace tp {
 
 namespace {
@@ -170,30 +172,67 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
   double* vals = withHessian ? out.hessian.data() : nullptr;
 
   const double mu = material_.mu(), lam = material_.lambdaPlaneStress(), h = material_.thickness;
+  // Membrane and bending elements in parallel: each thread scatters into its own gradient and
+  // value arrays (thread 0 straight into the output), summed afterwards. Static scheduling keeps
+  // the result the same from run to run for a given number of threads.
+  const int threads = omp_get_max_threads();
+  if (static_cast<int>(threadGrad_.size()) < threads) {
+    threadGrad_.resize(threads);
+    threadVals_.resize(threads);
+  }
+  double membrane = 0, bending = 0;
+  const int T = c.triangleCount();
+  const int H = material_.bending == BendingModel::None ? 0 : static_cast<int>(topo_.hinges.size());
+#pragma omp parallel num_threads(threads) reduction(+ : membrane, bending)
+  {
+    const int tid = omp_get_thread_num();
+    double* g = grad;
+    double* v = vals;
+    if (tid > 0) {
+      threadGrad_[tid].assign(3 * V, 0.0);
+      g = threadGrad_[tid].data();
+      if (withHessian) {
+        threadVals_[tid].assign(pattern_.nnz(), 0.0);
+        v = threadVals_[tid].data();
+      }
+    }
+    Vec9 g9;
+    Mat9 H9;
+#pragma omp for schedule(static) nowait
+    for (int t = 0; t < T; ++t) {
+      const auto& tri = c.triangles[t];
+      membrane += membraneEnergy(membraneRest_[t], x.col(tri[0]), x.col(tri[1]), x.col(tri[2]),
+                                 mu, lam, h, &g9, withHessian ? &H9 : nullptr);
+      scatter<9>(&triangleVerts_[3 * t], triangleSlots_.element(t), g9,
+                 withHessian ? &H9 : nullptr, g, v);
+    }
+    Vec12 g12;
+    Mat12 H12;
+#pragma omp for schedule(static) nowait
+    for (int k = 0; k < H; ++k) {
+      const auto& hv = topo_.hinges[k].v;
+      bending += material_.bending == BendingModel::Hinge
+                     ? hingeEnergy(hingeRest_[k], x.col(hv[0]), x.col(hv[1]), x.col(hv[2]),
+                                   x.col(hv[3]), &g12, withHessian ? &H12 : nullptr)
+                     : linearBendingEnergy(linearRest_[k], x.col(hv[0]), x.col(hv[1]),
+                                           x.col(hv[2]), x.col(hv[3]), &g12,
+                                           withHessian ? &H12 : nullptr);
+      scatter<12>(&hingeVerts_[4 * k], hingeSlots_.element(k), g12, withHessian ? &H12 : nullptr,
+                  g, v);
+    }
+  }
+  for (int tid = 1; tid < threads; ++tid) {
+    if (threadGrad_[tid].empty()) continue;
+    for (int i = 0; i < 3 * V; ++i) grad[i] += threadGrad_[tid][i];
+    if (withHessian)
+      for (int i = 0; i < pattern_.nnz(); ++i) vals[i] += threadVals_[tid][i];
+  }
+  out.energy.membrane = membrane;
+  out.energy.bending = bending;
   Vec9 g9;
   Mat9 H9;
-  for (int t = 0; t < c.triangleCount(); ++t) {
-    const auto& tri = c.triangles[t];
-    out.energy.membrane += membraneEnergy(membraneRest_[t], x.col(tri[0]), x.col(tri[1]),
-                                          x.col(tri[2]), mu, lam, h, &g9,
-                                          withHessian ? &H9 : nullptr);
-    scatter<9>(&triangleVerts_[3 * t], triangleSlots_.element(t), g9, withHessian ? &H9 : nullptr,
-               grad, vals);
-  }
   Vec12 g12;
   Mat12 H12;
-  if (material_.bending != BendingModel::None)
-    for (size_t k = 0; k < topo_.hinges.size(); ++k) {
-      const auto& v = topo_.hinges[k].v;
-      out.energy.bending +=
-          material_.bending == BendingModel::Hinge
-              ? hingeEnergy(hingeRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
-                            &g12, withHessian ? &H12 : nullptr)
-              : linearBendingEnergy(linearRest_[k], x.col(v[0]), x.col(v[1]), x.col(v[2]),
-                                    x.col(v[3]), &g12, withHessian ? &H12 : nullptr);
-      scatter<12>(&hingeVerts_[4 * k], hingeSlots_.element(static_cast<int>(k)), g12,
-                  withHessian ? &H12 : nullptr, grad, vals);
-    }
   for (const auto& [t, dp] : pressureLoads_) {
     const auto& tri = c.triangles[t];
     const double w = pressureEnergy(dp, x.col(tri[0]), x.col(tri[1]), x.col(tri[2]), &g9,

@@ -104,6 +104,8 @@ class Model {
   ContactLaw contact_;
 
   std::vector<int> triangleVerts_, hingeVerts_;  // flattened element vertex lists
+  // Per-thread accumulators of evaluate() (reused; a Model is evaluated by one caller at a time).
+  mutable std::vector<std::vector<double>> threadGrad_, threadVals_;
   DofMap dofs_;
   SparsePattern pattern_;
   SlotTable triangleSlots_, hingeSlots_;

@@ -96,6 +96,8 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   std::memcpy(x.data(), m.X->x, sizeof(double) * n);
 }
 
+bool CholmodSolver::factored() const { return impl_->factored; }
+
 double CholmodSolver::factorNonzeros() const {
   const Impl& m = *impl_;
   return m.L ? m.common.lnz : 0.0;

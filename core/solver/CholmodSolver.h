@@ -31,6 +31,8 @@ class CholmodSolver {
   /// Solves A x = b with the last successful factorisation.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
 
+  /// True when a factorisation is held (solve() may be called).
+  bool factored() const;
   /// Nonzeros of the factor L (after a factorisation), for reports.
   double factorNonzeros() const;
   std::string lastMessage() const { return message_; }

@@ -1,12 +1,20 @@
 #include "solver/Newton.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 namespace tp {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+}  // namespace
 
 StaticSolver::StaticSolver(Model& model, SolverOptions options)
     : model_(model), options_(options) {
@@ -44,7 +52,58 @@ double StaticSolver::residualNorm(const Points& x, const ForceControl* fc, doubl
   return std::sqrt(r2);
 }
 
+bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& values,
+                       const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol,
+                       int& iterations) {
+  const double target = relTol * rhs.norm();
+  sol.setZero(rhs.size());
+  Eigen::VectorXd r = rhs, z, p, q;
+  chol_.solve(r, z);
+  p = z;
+  double rz = r.dot(z);
+  q.resize(rhs.size());
+  for (int k = 0; k < options_.maxPcgIterations; ++k) {
+    symmetricMultiply(pattern, values, p.data(), q.data());
+    const double pq = p.dot(q);
+    if (!(pq > 0)) return false;  // negative curvature: leave it to the shifted factorisation
+    const double a = rz / pq;
+    sol += a * p;
+    r -= a * q;
+    ++iterations;
+    if (r.norm() <= target) return true;
+    chol_.solve(r, z);
+    const double rzNew = r.dot(z);
+    p = z + (rzNew / rz) * p;
+    rz = rzNew;
+  }
+  return false;
+}
+
+double StaticSolver::timeFactorization() {
+  if (analyzedFor_ != &model_.pattern()) {
+    chol_.analyze(model_.pattern());
+    analyzedFor_ = &model_.pattern();
+    analyzedNnz_ = model_.pattern().nnz();
+  }
+  if (static_cast<int>(ev_.hessian.size()) != model_.pattern().nnz()) return 0;
+  double maxDiag = 0;
+  for (int j = 0; j < model_.pattern().n; ++j)
+    maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
+  const auto tick = Clock::now();
+  chol_.factorize(ev_.hessian, lastShift_ > 0 ? lastShift_ : 1e-12 * maxDiag);
+  return seconds(tick);
+}
+
 SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
+  SolveReport rep = solveImpl(x, fc);
+  ++totals_.solves;
+  totals_.iterations += rep.iterations;
+  totals_.factorizations += rep.factorizations;
+  totals_.pcgIterations += rep.pcgIterations;
+  return rep;
+}
+
+SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   SolveReport rep;
   const DofMap& dofs = model_.dofs();
   const SparsePattern& pattern = model_.pattern();
@@ -64,11 +123,8 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
   double travel = travel0;
   const Material& mat = model_.material();
   const double stiffScale = mat.youngModulus * mat.thickness;          // µN/µm
-  const double floor = 1e-10 * stiffScale * model_.meanEdgeLength();  // µN, for load-free states
-  // Below this the residual is round-off: nodal forces are differences of terms of size
-  // ~ (μ+λ*) h ℓ, each known to ~1e-16 of itself.
-  const double noiseFloor = 1e-14 * 2 * (mat.mu() + mat.lambdaPlaneStress()) * mat.thickness *
-                            model_.meanEdgeLength() * std::sqrt(static_cast<double>(n));
+  const double floor = loadFreeFloor(model_);
+  const double noiseFloor = roundOffFloor(model_, n);
   const double maxProbeStep =
       options_.maxProbeStep > 0 ? options_.maxProbeStep
                                 : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
@@ -94,7 +150,9 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
       p.center = fc->origin + travel * fc->axis;
       model_.setProbe(p);
     }
+    auto tick = Clock::now();
     model_.evaluate(x, ev_, true);
+    totals_.assemblySeconds += seconds(tick);
     rep.energy = ev_.energy.total() - (fc ? fc->force * travel : 0.0);
     if (!std::isfinite(rep.energy)) return fail("energy is not finite");
     double loadNorm2 = 0;
@@ -108,9 +166,11 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
     rep.residual = std::sqrt(g.squaredNorm() + gs * gs);
     rep.iterations = it;
     if (options_.verbose)
-      std::fprintf(stderr, "  newton %2d  E=%.12g  |g|=%.3e  rel=%.3e  shift=%.2e  contact=%d\n",
+      std::fprintf(stderr,
+                   "  newton %2d  E=%.12g  |g|=%.3e  rel=%.3e  shift=%.2e  contact=%d  "
+                   "factorisations=%d  cg=%d\n",
                    it, rep.energy, rep.residual, rep.relativeResidual(), shift,
-                   ev_.contactTriangles);
+                   ev_.contactTriangles, rep.factorizations, rep.pcgIterations);
     if (!std::isfinite(rep.residual)) return fail("residual is not finite");
     if (rep.residual <= std::max(options_.tolerance * rep.loadScale, noiseFloor)) {
       rep.converged = true;
@@ -125,32 +185,54 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
       return fail(s.str());
     }
 
-    // Newton direction with a growing diagonal shift until the factorisation succeeds.
+    // Newton direction. First by conjugate gradients preconditioned with the last Cholesky
+    // factor (from an earlier iteration or load step: the tangent changes little between them),
+    // which costs a few triangular solves instead of a factorisation; if that does not converge
+    // quickly, or meets negative curvature, factorise the current tangent with a diagonal shift
+    // that grows until the factorisation succeeds.
     double maxDiag = 0;
     for (int j = 0; j < n; ++j) maxDiag = std::max(maxDiag, std::abs(ev_.hessian[diagPos[j]]));
     if (maxDiag == 0) maxDiag = stiffScale;
-    bool factored = false;
-    for (int attempt = 0; attempt < 40; ++attempt) {
-      ++rep.factorizations;
-      const auto st = chol_.factorize(ev_.hessian, shift);
-      if (st == CholmodSolver::Status::Ok) {
-        factored = true;
-        break;
-      }
-      if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed)
-        return fail(chol_.lastMessage());
-      shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
-      if (shift > 1e6 * maxDiag) break;
+    if (fc)
+      for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
+    bool solved = false;
+    if (options_.reuseFactorization && chol_.factored() && shift == 0) {
+      // Inexact Newton: solve just accurately enough for this step to reach the tolerance
+      // (a tenth of the remaining reduction), never looser than pcgTolerance.
+      const double target = std::max(options_.tolerance * rep.loadScale, noiseFloor);
+      const double eta = std::clamp(0.1 * target / rep.residual, 1e-12, options_.pcgTolerance);
+      int its = 0;
+      tick = Clock::now();
+      solved = pcg(pattern, ev_.hessian, g, dx, eta, its) &&
+               (!fc || pcg(pattern, ev_.hessian, b, z2, eta, its));
+      totals_.pcgSeconds += seconds(tick);
+      rep.pcgIterations += its;
     }
-    if (!factored) return fail("tangent matrix could not be made positive definite");
-    rep.maxShift = std::max(rep.maxShift, shift);
-    chol_.solve(g, dx);
+    if (!solved) {
+      tick = Clock::now();
+      bool factored = false;
+      for (int attempt = 0; attempt < 40; ++attempt) {
+        ++rep.factorizations;
+        const auto st = chol_.factorize(ev_.hessian, shift);
+        if (st == CholmodSolver::Status::Ok) {
+          factored = true;
+          break;
+        }
+        if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed)
+          return fail(chol_.lastMessage());
+        shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
+        if (shift > 1e6 * maxDiag) break;
+      }
+      if (!factored) return fail("tangent matrix could not be made positive definite");
+      rep.maxShift = std::max(rep.maxShift, shift);
+      chol_.solve(g, dx);
+      if (fc) chol_.solve(b, z2);
+      totals_.factorSeconds += seconds(tick);
+    }
     dx = -dx;
     double ds = 0;
     if (fc) {
-      for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
       const double kss = fc->axis.dot(ev_.probeHessian * fc->axis);
-      chol_.solve(b, z2);
       double schur = kss - b.dot(z2);
       const double schurFloor = 1e-3 * stiffScale;
       if (!(schur > schurFloor)) schur = std::max(schur, 0.0) + schurFloor + shift;
@@ -158,7 +240,6 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
       ds = -(gs + b.dot(dx)) / schur;
       dx -= z2 * ds;
     }
-    // Shrink the next shift when this one was not needed for long.
     const double slope = g.dot(dx) + gs * ds;
     if (!(slope < 0)) return fail("Newton direction is not a descent direction");
 
@@ -172,6 +253,7 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
     double alpha = alphaMax;
     Points xt = x;
     bool accepted = false;
+    tick = Clock::now();
     for (int ls = 0; ls < options_.maxLineSearch; ++ls) {
       xt = x;
       for (int i = 0; i < n; ++i) xt.data()[freeDofs[i]] += alpha * dx[i];
@@ -187,6 +269,7 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
       }
       alpha *= 0.5;
     }
+    totals_.lineSearchSeconds += seconds(tick);
     if (!accepted) return fail("line search failed to decrease the energy");
     x = xt;
     travel += alpha * ds;

@@ -11,53 +11,29 @@
 
 #include "mechanics/Model.h"
 #include "solver/CholmodSolver.h"
+#include "solver/Solver.h"
 
 namespace tp {
 
-struct SolverOptions {
-  double tolerance = 1e-9;     // converged when ‖residual‖ ≤ tolerance · load scale
-  int maxIterations = 60;
-  int maxLineSearch = 40;      // halvings before the line search gives up
-  double maxProbeStep = 0;     // cap on |Δs| per iteration under force control (µm); 0 = r/4
-  bool verbose = false;        // print one line per iteration to stderr
-};
-
-/// Force control: probe centre = origin + travel·axis, with `travel` unknown and `force` applied.
-struct ForceControl {
-  Vec3 origin = Vec3::Zero();
-  Vec3 axis = Vec3::UnitZ();  // unit, pointing into the tissue
-  double force = 0;           // µN
-  double travel = 0;          // µm (initial guess in, solution out)
-};
-
-struct SolveReport {
-  bool converged = false;
-  int iterations = 0;
-  double residual = 0;    // ‖∂W/∂u‖ over the unknowns at the end (µN)
-  double loadScale = 0;   // µN
-  double energy = 0;      // pJ
-  int factorizations = 0;
-  double maxShift = 0;    // largest diagonal shift used
-  std::string message;
-  double relativeResidual() const { return loadScale > 0 ? residual / loadScale : residual; }
-};
-
-class StaticSolver {
+class StaticSolver final : public EquilibriumSolver {
  public:
   explicit StaticSolver(Model& model, SolverOptions options = {});
 
-  /// Solves for equilibrium starting from x (3×V, clamped columns are kept). On success x (and
-  /// fc->travel) hold the equilibrium; on failure they are left exactly as given.
-  SolveReport solve(Points& x, ForceControl* fc = nullptr);
-
-  SolverOptions& options() { return options_; }
-  const Evaluation& lastEvaluation() const { return ev_; }
-  /// Call after the model's clamped unknowns change (rebuilds the symbolic analysis).
-  void patternChanged() { analyzedFor_ = nullptr; }
+  SolveReport solve(Points& x, ForceControl* fc = nullptr) override;
+  SolverOptions& options() override { return options_; }
+  const SolverTotals& totals() const override { return totals_; }
+  const Evaluation& lastEvaluation() const override { return ev_; }
+  /// Rebuilds the symbolic analysis at the next solve.
+  void patternChanged() override { analyzedFor_ = nullptr; }
+  /// The time one numeric factorisation of the last tangent takes (s): the solver's floor.
+  double timeFactorization();
 
  private:
+  SolveReport solveImpl(Points& x, ForceControl* fc);
   double totalEnergy(const Points& x, const ForceControl* fc, double travel, double* magnitude);
   double residualNorm(const Points& x, const ForceControl* fc, double travel);
+  bool pcg(const SparsePattern& pattern, const std::vector<double>& values,
+           const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol, int& iterations);
 
   Model& model_;
   SolverOptions options_;
@@ -66,6 +42,7 @@ class StaticSolver {
   int analyzedNnz_ = -1;
   Evaluation ev_;
   double lastShift_ = 0;
+  SolverTotals totals_;
 };
 
 }  // namespace tp

@@ -1,0 +1,88 @@
+#pragma once
+// What every equilibrium solver shares: options, force control, reports, the interface the
+// indentation protocol drives, and the factory. Two solvers exist: Newton with CHOLMOD (the
+// default, solver/Newton.h) and the published method as a reference (implicit Euler with
+// Rayleigh damping and conjugate gradients run until rest, solver/ImplicitEuler.h).
+
+#include <memory>
+#include <string>
+
+#include "mechanics/Model.h"
+
+namespace tp {
+
+enum class SolverKind { Newton, ImplicitEulerCG };
+SolverKind parseSolverKind(const std::string& name);  // "newton" | "implicit-euler-cg"
+std::string toString(SolverKind k);
+
+struct SolverOptions {
+  SolverKind kind = SolverKind::Newton;
+  double tolerance = 1e-9;     // converged when ‖residual‖ ≤ tolerance · load scale
+  int maxIterations = 60;      // Newton iterations
+  int maxLineSearch = 40;      // halvings before the line search gives up
+  double maxProbeStep = 0;     // cap on |Δs| per iteration under force control (µm); 0 = r/4
+  bool reuseFactorization = true;  // try CG preconditioned by the last factor before refactoring
+  double pcgTolerance = 1e-3;  // loosest relative residual of those CG solves (inexact Newton)
+  int maxPcgIterations = 25;   // beyond this the tangent is factorised afresh
+  bool verbose = false;        // print one line per iteration to stderr
+
+  // Reference solver (implicit Euler, Rayleigh damping, CG), with SOFA's usual settings.
+  double timeStep = 0.01;          // s
+  double density = 1e-15;          // wall density, kg/µm³ (1000 kg/m³); mass unit kg = µN·s²/µm
+  double rayleighMass = 0.1;       // α in C = α M + β K (1/s)
+  double rayleighStiffness = 0.1;  // β (s)
+  int cgIterations = 25;           // per time step
+  double cgTolerance = 1e-5;       // relative residual of each CG solve
+  int maxTimeSteps = 200000;       // per equilibrium
+  double maxSeconds = 600;         // per equilibrium (wall clock)
+};
+
+/// Force control: probe centre = origin + travel·axis, with `travel` unknown and `force` applied.
+struct ForceControl {
+  Vec3 origin = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();  // unit, pointing into the tissue
+  double force = 0;           // µN
+  double travel = 0;          // µm (initial guess in, solution out)
+};
+
+struct SolveReport {
+  bool converged = false;
+  int iterations = 0;     // Newton iterations, or time steps of the reference solver
+  double residual = 0;    // ‖∂W/∂u‖ over the unknowns at the end (µN)
+  double loadScale = 0;   // µN
+  double energy = 0;      // pJ
+  int factorizations = 0;
+  int pcgIterations = 0;  // conjugate-gradient iterations
+  double maxShift = 0;    // largest diagonal shift used
+  std::string message;
+  double relativeResidual() const { return loadScale > 0 ? residual / loadScale : residual; }
+};
+
+/// Totals over every solve of one solver (benchmarks, reports).
+struct SolverTotals {
+  int solves = 0, iterations = 0, factorizations = 0, pcgIterations = 0;
+  double assemblySeconds = 0, factorSeconds = 0, pcgSeconds = 0, lineSearchSeconds = 0;
+};
+
+class EquilibriumSolver {
+ public:
+  virtual ~EquilibriumSolver() = default;
+  /// Solves for equilibrium starting from x (3×V, clamped columns are kept). On success x (and
+  /// fc->travel) hold the equilibrium; on failure they are left exactly as given.
+  virtual SolveReport solve(Points& x, ForceControl* fc = nullptr) = 0;
+  /// The model evaluated at the last iterate (at the equilibrium after a successful solve).
+  virtual const Evaluation& lastEvaluation() const = 0;
+  virtual SolverOptions& options() = 0;
+  virtual const SolverTotals& totals() const = 0;
+  /// Call after the model's clamped unknowns change.
+  virtual void patternChanged() {}
+};
+
+std::unique_ptr<EquilibriumSolver> makeSolver(Model& model, const SolverOptions& options);
+
+/// Load scale and residual conventions shared by the solvers: the residual floor below which a
+/// state without load counts as converged, and the round-off floor of nodal forces (µN).
+double loadFreeFloor(const Model& model);
+double roundOffFloor(const Model& model, int unknowns);
+
+}  // namespace tp
