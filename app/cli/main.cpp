@@ -78,7 +78,7 @@ struct IndentArgs {
   int refine = 0;
   double refineRadius = 0;
   std::string csv, vtu;
-  double tolerance = 1e-9;
+  double tolerance = 1e-8;
   std::string solver = "newton";
   bool verbose = false, quiet = false;
 };

@@ -193,7 +193,6 @@ SolveReport Indentation::prepare() {
   }
   turgid_ = x;
   x_ = x;
-  xPrev_ = x;
 
   // Site, axis and first contact on the turgid state.
   ProbePlacement& pl = placement_;
@@ -211,8 +210,9 @@ SolveReport Indentation::prepare() {
   law.smoothing = 1e-3 * std::min(settings_.probeRadius, model_.meanEdgeLength());
   model_.setContactLaw(law);
   model_.setProbe({pl.contactCenter, settings_.probeRadius});
-  depth_ = depthPrev_ = load_ = loadPrev_ = 0;
-  havePrev_ = false;
+  depth_ = load_ = 0;
+  history_.clear();
+  remember();
   forceMode_ = false;
   prepared_ = true;
   message_.clear();
@@ -224,15 +224,31 @@ double Indentation::probeForce() const {
 }
 
 bool Indentation::solveAt(double target, bool forceControl, int& iterations, double& residual) {
-  const double ratio = (havePrev_ && load_ != loadPrev_) ? (target - load_) / (load_ - loadPrev_) : 0;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const bool extrapolate = attempt == 0 && ratio != 0;
-    if (attempt == 1 && ratio == 0) break;
-    Points x = extrapolate ? Points(x_ + ratio * (x_ - xPrev_)) : x_;
-    // The predictor must not move clamped components.
-    const auto& fixed = model_.complex().fixed;
-    for (int v = 0; v < x.cols(); ++v)
-      if (fixed[v]) x.col(v) = x_.col(v);
+  // Predictor: the polynomial through the last (up to three) equilibria of this control,
+  // evaluated at the target (Lagrange), for the state and the probe travel.
+  std::vector<double> w(history_.size(), 0.0);
+  for (size_t i = 0; i < history_.size(); ++i) {
+    w[i] = 1;
+    for (size_t j = 0; j < history_.size(); ++j)
+      if (j != i) w[i] *= (target - history_[j].load) / (history_[i].load - history_[j].load);
+  }
+  const bool canExtrapolate = history_.size() >= 2;
+  for (int attempt = canExtrapolate ? 0 : 1; attempt < 2; ++attempt) {
+    const bool extrapolate = attempt == 0;
+    Points x = x_;
+    double travelGuess = depth_;
+    if (extrapolate) {
+      x.setZero();
+      travelGuess = 0;
+      for (size_t i = 0; i < history_.size(); ++i) {
+        x += w[i] * history_[i].x;
+        travelGuess += w[i] * history_[i].depth;
+      }
+      // The predictor must not move clamped components.
+      const auto& fixed = model_.complex().fixed;
+      for (int v = 0; v < x.cols(); ++v)
+        if (fixed[v]) x.col(v) = x_.col(v);
+    }
     SolveReport rep;
     double travel = depth_;
     if (forceControl) {
@@ -240,7 +256,7 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
       fc.origin = placement_.contactCenter;
       fc.axis = placement_.axis;
       fc.force = target;
-      fc.travel = extrapolate ? depth_ + ratio * (depth_ - depthPrev_) : depth_;
+      fc.travel = travelGuess;
       rep = solver_->solve(x, &fc);
       travel = fc.travel;
     } else {
@@ -251,13 +267,10 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
     iterations += rep.iterations;
     residual = rep.relativeResidual();
     if (rep.converged) {
-      xPrev_ = x_;
       x_ = x;
-      depthPrev_ = depth_;
       depth_ = travel;
-      loadPrev_ = load_;
       load_ = target;
-      havePrev_ = true;
+      remember();
       return true;
     }
     message_ = rep.message;
@@ -267,11 +280,17 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
   return false;
 }
 
+void Indentation::remember() {
+  history_.push_back({load_, depth_, x_});
+  while (history_.size() > 3) history_.pop_front();
+}
+
 CurvePoint Indentation::advance(double target, bool forceControl) {
   if (!prepared_) throw std::logic_error("Indentation::prepare() must succeed first");
   if (forceControl != forceMode_) {  // switching control: restate the load in the new terms
-    load_ = loadPrev_ = forceControl ? probeForce() : depth_;
-    havePrev_ = false;
+    load_ = forceControl ? probeForce() : depth_;
+    history_.clear();
+    remember();
     forceMode_ = forceControl;
   }
   CurvePoint pt;

@@ -9,6 +9,7 @@
 // Units: µm, µN, MPa.
 
 #include <atomic>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -99,6 +100,7 @@ class Indentation {
 
  private:
   bool solveAt(double target, bool forceControl, int& iterations, double& residual);
+  void remember();  // pushes the current equilibrium onto the predictor's history
   CurvePoint advance(double target, bool forceControl);
   double probeForce() const;
 
@@ -106,11 +108,15 @@ class Indentation {
   IndentationSettings settings_;
   std::unique_ptr<EquilibriumSolver> solver_;
   bool prepared_ = false;
-  Points turgid_, x_, xPrev_;
-  double depth_ = 0, depthPrev_ = 0;  // current and previous probe travel (µm)
-  double load_ = 0, loadPrev_ = 0;    // current and previous control value (depth or force)
-  bool havePrev_ = false;
-  bool forceMode_ = false;            // control of load_/loadPrev_
+  Points turgid_, x_;
+  double depth_ = 0;       // probe travel (µm) of the current equilibrium x_
+  double load_ = 0;        // its control value (depth or force)
+  bool forceMode_ = false;  // which control load_ and the history are in
+  struct Equilibrium {
+    double load, depth;
+    Points x;
+  };
+  std::deque<Equilibrium> history_;  // the last (up to three) equilibria, for the predictor
   ProbePlacement placement_;
   std::string message_;
 };

@@ -196,7 +196,10 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (fc)
       for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
     bool solved = false;
-    if (options_.reuseFactorization && chol_.factored() && shift == 0) {
+    // A factor that needed many CG iterations last time is refactorised straight away rather
+    // than spending another long CG run on it first.
+    if (options_.reuseFactorization && chol_.factored() && shift == 0 &&
+        lastPcgIterations_ <= options_.maxPcgIterations / 2) {
       // Inexact Newton: solve just accurately enough for this step to reach the tolerance
       // (a tenth of the remaining reduction), never looser than pcgTolerance.
       const double target = std::max(options_.tolerance * rep.loadScale, noiseFloor);
@@ -207,6 +210,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
                (!fc || pcg(pattern, ev_.hessian, b, z2, eta, its));
       totals_.pcgSeconds += seconds(tick);
       rep.pcgIterations += its;
+      lastPcgIterations_ = solved ? its / (fc ? 2 : 1) : options_.maxPcgIterations;
     }
     if (!solved) {
       tick = Clock::now();
@@ -224,6 +228,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
         if (shift > 1e6 * maxDiag) break;
       }
       if (!factored) return fail("tangent matrix could not be made positive definite");
+      lastPcgIterations_ = 0;
       rep.maxShift = std::max(rep.maxShift, shift);
       chol_.solve(g, dx);
       if (fc) chol_.solve(b, z2);

@@ -42,6 +42,7 @@ class StaticSolver final : public EquilibriumSolver {
   int analyzedNnz_ = -1;
   Evaluation ev_;
   double lastShift_ = 0;
+  int lastPcgIterations_ = 0;  // of the last CG solve on the lagged factor
   SolverTotals totals_;
 };
 

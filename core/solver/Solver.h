@@ -17,7 +17,7 @@ std::string toString(SolverKind k);
 
 struct SolverOptions {
   SolverKind kind = SolverKind::Newton;
-  double tolerance = 1e-9;     // converged when ‖residual‖ ≤ tolerance · load scale
+  double tolerance = 1e-8;     // converged when ‖residual‖ ≤ tolerance · load scale
   int maxIterations = 60;      // Newton iterations
   int maxLineSearch = 40;      // halvings before the line search gives up
   double maxProbeStep = 0;     // cap on |Δs| per iteration under force control (µm); 0 = r/4

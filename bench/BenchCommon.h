@@ -1,0 +1,37 @@
+#pragma once
+// Shared set-up of the benchmarks: the shipped default meristem, refined at the probe like
+// `tissueprobe-cli indent --refine L`, with the default material and a turgid, placed probe.
+
+#include <memory>
+#include <string>
+
+#include "experiment/Indentation.h"
+
+namespace tp::bench {
+
+/// The default parameters of the CLI (E = 100 MPa, ν = 0.49, h = 0.2 µm, p = 0.8 MPa, probe
+/// radius 1 µm, hinge bending).
+Material defaultMaterial();
+constexpr double kPressure = 0.8;
+constexpr double kProbeRadius = 1.0;
+
+/// Cube root of the mean cell volume (µm): "a cell size".
+double cellSize(const CellComplex& cc);
+
+/// The default tissue refined `level` times around the top of the tissue (radius: the larger of
+/// three probe radii and one cell size). Cached.
+std::shared_ptr<const CellComplex> refinedMeristem(int level);
+
+/// A prepared indentation (turgid state solved, probe placed at the top) on `cc`.
+struct Setup {
+  std::shared_ptr<const CellComplex> cc;
+  std::unique_ptr<Model> model;
+  std::unique_ptr<Indentation> indentation;
+};
+Setup prepare(std::shared_ptr<const CellComplex> cc, SolverOptions options = {},
+              IndentationSettings settings = {});
+
+/// Peak resident memory of this process so far (MB).
+double peakMemoryMB();
+
+}  // namespace tp::bench
