@@ -61,8 +61,8 @@ Vec3 parseVec3(const std::string& text, const std::string& option) {
 CellComplex loadTissue(const std::string& path) {
   PlyInfo info;
   CellComplex cc = readPly(path, &info);
-  const ValidityReport r = checkValidity(cc);
-  if (!r.ok()) throw std::runtime_error(path + ": not a valid tissue: " + r.summary());
+  const std::string problem = simulationProblem(cc);
+  if (!problem.empty()) throw std::runtime_error(path + ": " + problem);
   return cc;
 }
 

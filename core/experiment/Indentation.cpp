@@ -224,15 +224,20 @@ double Indentation::probeForce() const {
 }
 
 bool Indentation::solveAt(double target, bool forceControl, int& iterations, double& residual) {
-  // Predictor: the polynomial through the last (up to three) equilibria of this control,
-  // evaluated at the target (Lagrange), for the state and the probe travel.
-  std::vector<double> w(history_.size(), 0.0);
-  for (size_t i = 0; i < history_.size(); ++i) {
-    w[i] = 1;
-    for (size_t j = 0; j < history_.size(); ++j)
-      if (j != i) w[i] *= (target - history_[j].load) / (history_[i].load - history_[j].load);
+  // Predictor: the polynomial through the last (up to three) equilibria of this control with
+  // distinct loads (unloading revisits loads), evaluated at the target (Lagrange), for the state
+  // and the probe travel.
+  std::vector<const Equilibrium*> pts;
+  for (auto it = history_.rbegin(); it != history_.rend(); ++it) {
+    bool seen = false;
+    for (const Equilibrium* q : pts) seen = seen || q->load == it->load;
+    if (!seen) pts.push_back(&*it);
   }
-  const bool canExtrapolate = history_.size() >= 2;
+  std::vector<double> w(pts.size(), 1.0);
+  for (size_t i = 0; i < pts.size(); ++i)
+    for (size_t j = 0; j < pts.size(); ++j)
+      if (j != i) w[i] *= (target - pts[j]->load) / (pts[i]->load - pts[j]->load);
+  const bool canExtrapolate = pts.size() >= 2;
   for (int attempt = canExtrapolate ? 0 : 1; attempt < 2; ++attempt) {
     const bool extrapolate = attempt == 0;
     Points x = x_;
@@ -240,9 +245,9 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
     if (extrapolate) {
       x.setZero();
       travelGuess = 0;
-      for (size_t i = 0; i < history_.size(); ++i) {
-        x += w[i] * history_[i].x;
-        travelGuess += w[i] * history_[i].depth;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        x += w[i] * pts[i]->x;
+        travelGuess += w[i] * pts[i]->depth;
       }
       // The predictor must not move clamped components.
       const auto& fixed = model_.complex().fixed;

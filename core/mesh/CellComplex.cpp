@@ -191,7 +191,7 @@ std::vector<double> triangleAreas(const CellComplex& cc, const Points& x) {
 std::string ValidityReport::summary() const {
   std::ostringstream s;
   if (errors.empty()) s << "valid";
-  else s << errors.size() << " error(s): " << errors.front();
+  else s << std::max<size_t>(errorCount, errors.size()) << " error(s): " << errors.front();
   if (!warnings.empty()) s << "; " << warnings.size() << " warning(s): " << warnings.front();
   return s.str();
 }
@@ -200,6 +200,7 @@ ValidityReport checkValidity(const CellComplex& cc) {
   ValidityReport r;
   const int V = cc.vertexCount(), T = cc.triangleCount(), W = cc.wallCount(), C = cc.cellCount();
   auto err = [&](const std::string& m) {
+    ++r.errorCount;
     if (r.errors.size() < 50) r.errors.push_back(m);
   };
   if (static_cast<int>(cc.fixed.size()) != V) err("fixed flags: size differs from vertex count");

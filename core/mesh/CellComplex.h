@@ -63,7 +63,8 @@ std::vector<double> triangleAreas(const CellComplex& cc, const Points& x);
 
 /// Result of checking a cell complex; `ok()` when there are no errors.
 struct ValidityReport {
-  std::vector<std::string> errors;
+  std::vector<std::string> errors;  // the first 50 messages
+  int errorCount = 0;               // all of them
   std::vector<std::string> warnings;
   int openCells = 0;            // cells whose boundary has free edges
   int misorientedCells = 0;     // cells with an edge used twice in the same direction

@@ -52,6 +52,25 @@ MeshQuality measureQuality(const CellComplex& cc) {
   return q;
 }
 
+std::string simulationProblem(const CellComplex& cc) {
+  if (cc.triangleCount() == 0) return "the tissue has no walls";
+  const ValidityReport r = checkValidity(cc);
+  if (!r.ok()) {
+    std::string msg = "not a valid tissue: " + r.summary();
+    if (r.openCells > 0 && r.openCells == cc.cellCount())
+      msg += ". Every cell is open: this is a surface mesh (MorphoGraphX and openalea L1 meshes "
+             "hold the outer walls only), not a 3D cell complex; build a tissue from the cells' "
+             "centroids instead (tissueprobe-cli build --centroids FILE)";
+    return msg;
+  }
+  bool anyFixed = false;
+  for (auto f : cc.fixed) anyFixed = anyFixed || f != 0;
+  if (!anyFixed)
+    return "no vertex is clamped (the vertex property 'fixed'), so the tissue would move as a "
+           "rigid body under the probe; clamp its base";
+  return {};
+}
+
 std::string formatQuality(const MeshQuality& q) {
   char buf[1024];
   std::snprintf(buf, sizeof buf,

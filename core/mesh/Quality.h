@@ -19,6 +19,11 @@ struct MeshQuality {
 };
 
 MeshQuality measureQuality(const CellComplex& cc);
+/// Why a tissue cannot be simulated as it is (empty when it can): invalid cells (with a hint when
+/// the file is a surface of open cells, as MorphoGraphX and openalea L1 meshes are), or nothing
+/// clamped (the tissue would move as a rigid body).
+std::string simulationProblem(const CellComplex& cc);
+
 /// Multi-line human-readable report.
 std::string formatQuality(const MeshQuality& q);
 

@@ -1,0 +1,147 @@
+// tissueprobe-cli as a user runs it: exit codes, printed curves, files written, error messages.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "io/CurveCsv.h"
+
+using testing::HasSubstr;
+
+namespace {
+
+struct CliRun {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun cli(const std::string& args) {
+  const std::string cmd = std::string(TP_CLI) + " " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string dataDir() {
+  if (const char* d = std::getenv("TP_SHARED_DATA_DIR")) return d;
+  return std::string(TP_SOURCE_DIR) + "/../shared/data";
+}
+
+std::string tmp(const std::string& name) { return testing::TempDir() + "/cli_" + name; }
+
+// A small meristem shared by the tests (built once with `build --generate`).
+const std::string& smallTissue() {
+  static const std::string path = [] {
+    const std::string p = tmp("small.ply");
+    const CliRun r = cli("build --generate --cells 60 --diameter 30 --cap-height 12 --stem-height 4 "
+                      "--seed 3 --out " + p);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return p;
+  }();
+  return path;
+}
+
+}  // namespace
+
+TEST(Cli, HelpNamesEveryOptionWithUnits) {
+  const CliRun r = cli("indent --help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* opt : {"--mesh", "--E", "--nu", "--thickness", "--pressure", "--bending",
+                          "--probe-radius", "--site", "--axis", "--depth", "--force", "--steps",
+                          "--unload", "--csv", "--vtu", "--refine", "--refine-radius", "--solver"})
+    EXPECT_THAT(r.output, HasSubstr(opt));
+  for (const char* unit : {"MPa", "um", "uN"}) EXPECT_THAT(r.output, HasSubstr(unit));
+}
+
+TEST(Cli, DepthControlWritesCsvAndVtu) {
+  const std::string csv = tmp("curve.csv"), vtu = tmp("final.vtu");
+  const CliRun r = cli("indent --mesh " + smallTissue() + " --depth 0.2 --steps 4 --csv " + csv +
+                    " --vtu " + vtu);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("depth_um"));
+  const auto curve = tp::readCurveCsv(csv);
+  ASSERT_EQ(curve.size(), 5u);
+  for (size_t k = 1; k < curve.size(); ++k) {
+    EXPECT_TRUE(curve[k].converged);
+    EXPECT_GT(curve[k].force, curve[k - 1].force);
+  }
+  EXPECT_NEAR(curve.back().depth, 0.2, 1e-12);
+  std::ifstream in(vtu);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("von_mises_MPa"));
+  EXPECT_THAT(text.str(), HasSubstr("displacement_um"));
+}
+
+TEST(Cli, ForceControlAndUnloading) {
+  const std::string csv = tmp("force.csv");
+  const CliRun r = cli("indent --mesh " + smallTissue() + " --force 0.5 --steps 3 --unload --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto curve = tp::readCurveCsv(csv);
+  ASSERT_EQ(curve.size(), 7u);  // contact, 3 up, 3 down
+  EXPECT_NEAR(curve[3].force, 0.5, 1e-6);
+  EXPECT_NEAR(curve.back().force, 0.0, 1e-6);
+  EXPECT_NEAR(curve.back().depth, 0.0, 1e-3);
+}
+
+TEST(Cli, ReferenceSolverGivesTheSameCurve) {
+  const std::string a = tmp("newton.csv"), b = tmp("euler.csv");
+  ASSERT_EQ(cli("indent --mesh " + smallTissue() + " --depth 0.05 --steps 2 --csv " + a).status, 0);
+  const CliRun r = cli("indent --mesh " + smallTissue() +
+                    " --depth 0.05 --steps 2 --solver implicit-euler-cg --csv " + b);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto ca = tp::readCurveCsv(a), cb = tp::readCurveCsv(b);
+  ASSERT_EQ(ca.size(), cb.size());
+  for (size_t k = 1; k < ca.size(); ++k) EXPECT_NEAR(cb[k].force, ca[k].force, 1e-5 * ca.back().force);
+}
+
+TEST(Cli, RefinementAtTheSite) {
+  const CliRun r = cli("indent --mesh " + smallTissue() + " --depth 0.1 --steps 2 --refine 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("refined 1 level(s)"));
+}
+
+TEST(Cli, BadInputIsNamed) {
+  CliRun r = cli("indent --mesh " + smallTissue() + " --site 1,2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--site: expected three comma-separated numbers, got '1,2'"));
+  r = cli("indent --mesh " + smallTissue() + " --E -5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("Young's modulus must be positive"));
+  r = cli("indent --mesh " + smallTissue() + " --bending stiff");
+  EXPECT_NE(r.status, 0);
+  EXPECT_THAT(r.output, HasSubstr("stiff"));
+  const std::string bad = tmp("bad.ply");
+  std::ofstream(bad) << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n";
+  r = cli("indent --mesh " + bad);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("bad.ply"));
+  r = cli("indent --mesh " + dataDir() + "/mgx2r_meristem_morphographx/mesh_meristem_full_T0.ply");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("376 error(s)"));
+  EXPECT_THAT(r.output, HasSubstr("surface mesh"));
+}
+
+TEST(Cli, InfoAndBuildFromCentroids) {
+  CliRun r = cli("info " + smallTissue());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("yes, every cell"));
+  const std::string out = tmp("real.ply");
+  r = cli("build --centroids " + dataDir() + "/refahi2021_flower_stage4/cells.csv " +
+          "--columns label,x,y,z,volume_um3 --out " + out);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("correlation"));
+  EXPECT_TRUE(std::filesystem::exists(out));
+}
