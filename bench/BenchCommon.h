@@ -2,8 +2,11 @@
 // Shared set-up of the benchmarks: the shipped default meristem, refined at the probe like
 // `tissueprobe-cli indent --refine L`, with the default material and a turgid, placed probe.
 
+#include <algorithm>
+#include <chrono>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "experiment/Indentation.h"
 
@@ -31,7 +34,34 @@ struct Setup {
 Setup prepare(std::shared_ptr<const CellComplex> cc, SolverOptions options = {},
               IndentationSettings settings = {});
 
+/// Times equilibria at successive depths (from `start`, each `step` deeper, warm-started), one per
+/// call of `next`, and returns the median (s) when `next` says stop. Fails if a step does not
+/// converge (the message is returned in `error`).
+template <class Next>
+double medianStepSeconds(Indentation& ind, double start, double step, Next&& next,
+                         std::string& error);
+
 /// Peak resident memory of this process so far (MB).
 double peakMemoryMB();
+
+template <class Next>
+double medianStepSeconds(Indentation& ind, double start, double step, Next&& next,
+                         std::string& error) {
+  using Clock = std::chrono::steady_clock;
+  ind.goToDepth(start);
+  ind.goToDepth(start + step);
+  std::vector<double> times;
+  double depth = start + step;
+  while (next()) {
+    depth += step;  // always a new depth: no step returns to a state already solved
+    const auto t = Clock::now();
+    const CurvePoint p = ind.goToDepth(depth);
+    times.push_back(std::chrono::duration<double>(Clock::now() - t).count());
+    if (!p.converged) error = ind.lastMessage();
+  }
+  if (times.empty()) return 0;
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
 
 }  // namespace tp::bench

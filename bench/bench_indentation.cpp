@@ -4,7 +4,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdlib>
 #include <vector>
 
@@ -16,9 +15,6 @@ using namespace tp;
 using namespace tp::bench;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void addSizeCounters(benchmark::State& state, const Model& m) {
   state.counters["vertices"] = m.complex().vertexCount();
@@ -78,24 +74,15 @@ void BM_EquilibriumStep(benchmark::State& state) {
   auto cc = refinedMeristem(static_cast<int>(state.range(0)));
   Setup s = prepare(cc);
   const double cell = cellSize(*refinedMeristem(0));
-  const double d0 = 0.05 * cell, d1 = 0.06 * cell;
-  s.indentation->goToDepth(d0);
-  s.indentation->goToDepth(d1);
-  std::vector<double> times;
-  double depth = d1;
-  for (auto _ : state) {
-    depth += d1 - d0;  // always a new depth: no step returns to a state already solved
-    const auto t = Clock::now();
-    const CurvePoint p = s.indentation->goToDepth(depth);
-    times.push_back(since(t));
-    if (!p.converged) state.SkipWithError("step did not converge");
-  }
-  std::sort(times.begin(), times.end());
+  std::string error;
+  const double median = medianStepSeconds(*s.indentation, 0.05 * cell, 0.01 * cell,
+                                          [&] { return state.KeepRunning(); }, error);
+  if (!error.empty()) state.SkipWithError(error.c_str());
   auto& solver = dynamic_cast<StaticSolver&>(s.indentation->solver());
   std::vector<double> factor;
   for (int k = 0; k < 5; ++k) factor.push_back(solver.timeFactorization());
   std::sort(factor.begin(), factor.end());
-  const double median = times[times.size() / 2], f = factor[factor.size() / 2];
+  const double f = factor[factor.size() / 2];
   addSizeCounters(state, *s.model);
   state.counters["median_step_ms"] = 1e3 * median;
   state.counters["factorization_ms"] = 1e3 * f;

@@ -34,16 +34,10 @@ StressField computeStress(const Model& model, const Points& x) {
     w.meanCauchy /= w.area;
     w.energyDensity /= w.area;
     const Vec3 n = normal[i].norm() > 0 ? Vec3(normal[i].normalized()) : Vec3::UnitZ();
-    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-    Eigen::Matrix<double, 3, 2> T;
-    T << t1, t2;
-    const Eigen::Matrix2d s = T.transpose() * w.meanCauchy * T;
-    const double mean = 0.5 * (s(0, 0) + s(1, 1));
-    const double rad = std::hypot(0.5 * (s(0, 0) - s(1, 1)), s(0, 1));
-    w.principalMax = mean + rad;
-    w.principalMin = mean - rad;
-    w.vonMises = std::sqrt(w.principalMax * w.principalMax - w.principalMax * w.principalMin +
-                           w.principalMin * w.principalMin);
+    const InPlanePrincipal p = inPlanePrincipal(w.meanCauchy, n);
+    w.principalMax = p.max;
+    w.principalMin = p.min;
+    w.vonMises = p.vonMises;
   }
   return f;
 }

@@ -117,19 +117,25 @@ MembraneStress membraneStress(const MembraneRest& rest, const Vec3& x0, const Ve
   P << d.g.head<3>(), d.g.tail<3>();
   s.cauchy = P * F.transpose() / J;
   s.cauchy = 0.5 * (s.cauchy + s.cauchy.transpose()).eval();
-  // Principal values in the deformed tangent plane.
-  const Vec3 t1 = f1.normalized();
-  const Vec3 t2 = (n / J).cross(t1);
+  const InPlanePrincipal p = inPlanePrincipal(s.cauchy, n / J);  // the deformed tangent plane
+  s.principalMax = p.max;
+  s.principalMin = p.min;
+  s.vonMises = p.vonMises;
+  return s;
+}
+
+InPlanePrincipal inPlanePrincipal(const Mat3& sigma, const Vec3& n) {
+  const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
   Eigen::Matrix<double, 3, 2> T;
   T << t1, t2;
-  const Eigen::Matrix2d s2 = T.transpose() * s.cauchy * T;
-  const double mean = 0.5 * (s2(0, 0) + s2(1, 1));
-  const double rad = std::hypot(0.5 * (s2(0, 0) - s2(1, 1)), s2(0, 1));
-  s.principalMax = mean + rad;
-  s.principalMin = mean - rad;
-  s.vonMises = std::sqrt(s.principalMax * s.principalMax - s.principalMax * s.principalMin +
-                         s.principalMin * s.principalMin);
-  return s;
+  const Eigen::Matrix2d s = T.transpose() * sigma * T;
+  const double mean = 0.5 * (s(0, 0) + s(1, 1));
+  const double rad = std::hypot(0.5 * (s(0, 0) - s(1, 1)), s(0, 1));
+  InPlanePrincipal p;
+  p.max = mean + rad;
+  p.min = mean - rad;
+  p.vonMises = std::sqrt(p.max * p.max - p.max * p.min + p.min * p.min);
+  return p;
 }
 
 }  // namespace tp

@@ -38,6 +38,13 @@ struct MembraneStress {
   double energyDensity = 0;    // Ψ, strain energy per rest volume (MPa = pJ/µm³)
 };
 
+/// Principal values σ₁ ≥ σ₂ and von Mises √(σ₁² − σ₁σ₂ + σ₂²) of a 3×3 in-plane stress tensor,
+/// read in the plane with unit normal n (MPa).
+struct InPlanePrincipal {
+  double max = 0, min = 0, vonMises = 0;
+};
+InPlanePrincipal inPlanePrincipal(const Mat3& sigma, const Vec3& n);
+
 MembraneStress membraneStress(const MembraneRest& rest, const Vec3& x0, const Vec3& x1,
                               const Vec3& x2, double mu, double lambda);
 
