@@ -1,0 +1,115 @@
+#include "Curves.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "io/AtomicFile.h"
+#include "io/CurveCsv.h"
+
+namespace tp::gui {
+
+namespace {
+
+constexpr const char* kPointColumns = "depth_um,force_uN,iterations,residual,converged,unloading";
+
+std::string quoted(const std::string& name) {
+  std::string out = "\"";
+  for (char c : name) {
+    if (c == '\n' || c == '\r') c = ' ';
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + '"';
+}
+
+}  // namespace
+
+std::string curveName(int siteNumber, const Eigen::Vector3d& site, const SimulationParams& p,
+                      bool live) {
+  char where[96];
+  std::snprintf(where, sizeof where, "site %d (%.1f, %.1f, %.1f) µm", siteNumber, site.x(),
+                site.y(), site.z());
+  return std::string(where) + " · " + describe(p) + (live ? " · drag" : "");
+}
+
+std::string curvesCsv(const std::vector<NamedCurve>& curves) {
+  std::string out = std::string("curve,") + kPointColumns + "\n";
+  for (const NamedCurve& c : curves) {
+    // tp::curveCsv writes the five point columns exactly; add the name and `unloading`.
+    const std::string body = curveCsv(c.points);
+    size_t start = body.find('\n') + 1;  // past the header
+    for (const CurvePoint& p : c.points) {
+      const size_t end = body.find('\n', start);
+      out +=
+          quoted(c.name) + ',' + body.substr(start, end - start) + (p.unloading ? ",1\n" : ",0\n");
+      start = end + 1;
+    }
+  }
+  return out;
+}
+
+void writeCurvesCsv(const std::string& path, const std::vector<NamedCurve>& curves) {
+  writeFileAtomically(path, curvesCsv(curves));
+}
+
+std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
+    std::string_view text, const std::string& nameForErrors) {
+  std::vector<std::pair<std::string, std::string>> bodies;  // name → point rows with a header
+  size_t pos = 0;
+  int line = 0;
+  bool header = true;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view row = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line;
+    if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
+    if (row.empty()) continue;
+    if (header) {
+      if (row != std::string("curve,") + kPointColumns)
+        throw std::runtime_error(nameForErrors + ": line 1: expected the header 'curve," +
+                                 kPointColumns + "'");
+      header = false;
+      continue;
+    }
+    std::string name;
+    size_t i = 0;
+    if (row.empty() || row[0] != '"')
+      throw std::runtime_error(nameForErrors + ": line " + std::to_string(line) +
+                               ": the curve name must be quoted");
+    for (i = 1; i < row.size(); ++i) {
+      if (row[i] == '"') {
+        if (i + 1 < row.size() && row[i + 1] == '"') {
+          name += '"';
+          ++i;
+          continue;
+        }
+        break;
+      }
+      name += row[i];
+    }
+    if (i + 1 >= row.size() || row[i + 1] != ',')
+      throw std::runtime_error(nameForErrors + ": line " + std::to_string(line) +
+                               ": expected a comma after the curve name");
+    auto it = bodies.begin();
+    while (it != bodies.end() && it->first != name) ++it;
+    if (it == bodies.end()) {
+      bodies.emplace_back(name, std::string(kPointColumns) + "\n");
+      it = bodies.end() - 1;
+    }
+    it->second.append(row.substr(i + 2));
+    it->second += '\n';
+  }
+  std::vector<std::pair<std::string, std::vector<CurvePoint>>> out;
+  for (const auto& [name, body] : bodies)
+    out.emplace_back(name, parseCurveCsv(body, nameForErrors + " (curve '" + name + "')"));
+  return out;
+}
+
+AxisScale axisScale(bool nondimensional, double meanCellSize, double youngModulus) {
+  if (!nondimensional || !(meanCellSize > 0) || !(youngModulus > 0)) return {};
+  return {1.0 / meanCellSize, 1.0 / (youngModulus * meanCellSize * meanCellSize)};
+}
+
+}  // namespace tp::gui

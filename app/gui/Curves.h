@@ -1,0 +1,48 @@
+#pragma once
+// Force–depth curves as the window keeps them: each with a name (site and parameters), the site
+// and parameters it was computed with and its points; several curves in one CSV file (long
+// format), and the nondimensional axes [I] = I/L, [F] = F/(E L²). Units: µm, µN, MPa.
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "Parameters.h"
+#include "experiment/Indentation.h"
+
+namespace tp::gui {
+
+struct NamedCurve {
+  std::string name;
+  Eigen::Vector3d site = Eigen::Vector3d::Zero();  // µm, on the turgid surface
+  SimulationParams params;
+  std::vector<CurvePoint> points;
+  bool live = false;  // grown by dragging the probe (not a scheduled run)
+};
+
+/// The name of a curve: "site 2 (0.0, 0.0, 45.8) µm · E 100 MPa, p 0.8 MPa, r 1 µm".
+std::string curveName(int siteNumber, const Eigen::Vector3d& site, const SimulationParams& p,
+                      bool live);
+
+/// Long-format CSV, one row per point of every curve:
+///   curve,depth_um,force_uN,iterations,residual,converged,unloading
+/// The curve name is quoted ("" for a quote inside); numbers as tp::curveCsv writes them.
+std::string curvesCsv(const std::vector<NamedCurve>& curves);
+/// Writes curvesCsv atomically; throws std::runtime_error if writing fails.
+void writeCurvesCsv(const std::string& path, const std::vector<NamedCurve>& curves);
+/// Reads the long format back: (name, points) in the order the curves first appear. Throws
+/// std::runtime_error naming `nameForErrors` and the line.
+std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
+    std::string_view text, const std::string& nameForErrors);
+
+/// Scales for the plot axes: depth × depthScale, force × forceScale.
+struct AxisScale {
+  double depth = 1, force = 1;
+};
+/// Real units (1, 1) or nondimensional (1/L, 1/(E L²)) with L the mean cell size (µm) and E the
+/// curve's Young's modulus (MPa): E L² is a force in µN.
+AxisScale axisScale(bool nondimensional, double meanCellSize, double youngModulus);
+
+}  // namespace tp::gui

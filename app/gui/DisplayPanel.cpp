@@ -1,0 +1,144 @@
+#include "DisplayPanel.h"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <QVBoxLayout>
+
+namespace tp::gui {
+
+namespace {
+
+QDoubleSpinBox* rangeBox(const QString& tip) {
+  auto* s = new QDoubleSpinBox;
+  s->setRange(-1e6, 1e6);
+  s->setDecimals(4);
+  s->setKeyboardTracking(false);
+  s->setToolTip(tip);
+  return s;
+}
+
+}  // namespace
+
+DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
+  setObjectName("displayPanel");
+  auto* layout = new QVBoxLayout(this);
+
+  auto* colour = new QGroupBox(tr("Colour"));
+  auto* form = new QFormLayout(colour);
+  field_ = new QComboBox;
+  for (int f = 0; f < kFieldCount; ++f)
+    field_->addItem(QString::fromUtf8(fieldName(Field(f))) + " (" +
+                        QString::fromUtf8(fieldUnit(Field(f))) + ")",
+                    f);
+  field_->setToolTip(
+      tr("Quantity that colours each wall triangle: in-plane stresses and "
+         "energy densities from the stress read-out (MPa), or the displacement "
+         "from the turgid state (µm)."));
+  map_ = new QComboBox;
+  for (int k = 0; k < ColorMap::kKindCount; ++k)
+    map_->addItem(QString::fromUtf8(ColorMap::name(ColorMap::Kind(k))), k);
+  map_->setToolTip(
+      tr("Viridis for magnitudes; cool–warm for signed values (zero in the middle "
+         "when the automatic range spans both signs)."));
+  auto_ = new QCheckBox(tr("Automatic range"));
+  auto_->setChecked(true);
+  auto_->setToolTip(tr("Follow the smallest and largest value of the current state."));
+  lo_ = rangeBox(tr("Value at the low end of the colour bar"));
+  hi_ = rangeBox(tr("Value at the high end of the colour bar"));
+  lo_->setEnabled(false);
+  hi_->setEnabled(false);
+  outlines_ = new QCheckBox(tr("Cell outlines"));
+  outlines_->setChecked(true);
+  outlines_->setToolTip(tr("Draw the boundaries of the walls (where cells meet) as lines."));
+  form->addRow(tr("Quantity"), field_);
+  form->addRow(tr("Colour map"), map_);
+  form->addRow(auto_);
+  form->addRow(tr("Min"), lo_);
+  form->addRow(tr("Max"), hi_);
+  form->addRow(outlines_);
+  layout->addWidget(colour);
+
+  auto* sectionBox = new QGroupBox(tr("Section"));
+  auto* sform = new QFormLayout(sectionBox);
+  section_ = new QCheckBox(tr("Cut the tissue"));
+  section_->setObjectName("sectionCheckBox");
+  section_->setToolTip(tr("Clip the tissue with a plane to see the inner walls."));
+  axis_ = new QComboBox;
+  axis_->addItems({tr("x (normal to x)"), tr("y (normal to y)"), tr("z (normal to z)")});
+  axis_->setCurrentIndex(1);
+  position_ = new QSlider(Qt::Horizontal);
+  position_->setRange(0, 1000);
+  position_->setValue(500);
+  position_->setToolTip(tr("Position of the plane across the tissue's extent along the axis"));
+  flip_ = new QCheckBox(tr("Keep the other side"));
+  sform->addRow(section_);
+  sform->addRow(tr("Axis"), axis_);
+  sform->addRow(tr("Position"), position_);
+  sform->addRow(flip_);
+  layout->addWidget(sectionBox);
+  layout->addStretch(1);
+
+  connect(field_, &QComboBox::currentIndexChanged, this, [this] {
+    updateUnits();
+    emit fieldChanged(field());
+  });
+  connect(map_, &QComboBox::currentIndexChanged, this,
+          [this] { emit colorMapChanged(colorMapKind()); });
+  connect(auto_, &QCheckBox::toggled, this, [this](bool on) {
+    lo_->setEnabled(!on);
+    hi_->setEnabled(!on);
+    emit autoRangeChanged(on);
+    if (!on) emit rangeChanged(lo_->value(), hi_->value());
+  });
+  for (auto* s : {lo_, hi_})
+    connect(s, &QDoubleSpinBox::valueChanged, this, [this] {
+      if (!auto_->isChecked()) emit rangeChanged(lo_->value(), hi_->value());
+    });
+  connect(outlines_, &QCheckBox::toggled, this, &DisplayPanel::outlinesChanged);
+  connect(section_, &QCheckBox::toggled, this, &DisplayPanel::emitSection);
+  connect(axis_, &QComboBox::currentIndexChanged, this, &DisplayPanel::emitSection);
+  connect(position_, &QSlider::valueChanged, this, &DisplayPanel::emitSection);
+  connect(flip_, &QCheckBox::toggled, this, &DisplayPanel::emitSection);
+  updateUnits();
+}
+
+Field DisplayPanel::field() const {
+  return Field(field_->currentData().toInt());
+}
+
+ColorMap::Kind DisplayPanel::colorMapKind() const {
+  return ColorMap::Kind(map_->currentData().toInt());
+}
+
+bool DisplayPanel::sectionEnabled() const {
+  return section_->isChecked();
+}
+
+void DisplayPanel::setSectionEnabled(bool on) {
+  section_->setChecked(on);
+}
+
+void DisplayPanel::updateUnits() {
+  const QString unit = QStringLiteral(" ") + QString::fromUtf8(fieldUnit(field()));
+  lo_->setSuffix(unit);
+  hi_->setSuffix(unit);
+}
+
+void DisplayPanel::showRange(double lo, double hi) {
+  if (!auto_->isChecked()) return;  // the user's numbers stay
+  const QSignalBlocker a(lo_), b(hi_);
+  lo_->setValue(lo);
+  hi_->setValue(hi);
+}
+
+void DisplayPanel::emitSection() {
+  emit sectionChanged(section_->isChecked(), axis_->currentIndex(), position_->value() / 1000.0,
+                      flip_->isChecked());
+}
+
+}  // namespace tp::gui

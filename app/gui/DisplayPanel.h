@@ -1,0 +1,51 @@
+#pragma once
+// The colour and section dock: which quantity colours the walls, the colour map, the range
+// (automatic or min/max in the quantity's unit), cell outlines, and the section plane (on/off,
+// axis, position along the tissue, side kept).
+
+#include <QWidget>
+
+#include "ColorMap.h"
+#include "Snapshot.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QSlider;
+
+namespace tp::gui {
+
+class DisplayPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit DisplayPanel(QWidget* parent = nullptr);
+
+  Field field() const;
+  ColorMap::Kind colorMapKind() const;
+  bool sectionEnabled() const;
+
+ public slots:
+  /// The range the view uses (shown in the min/max boxes while the range is automatic).
+  void showRange(double lo, double hi);
+  void setSectionEnabled(bool on);
+
+ signals:
+  void fieldChanged(tp::gui::Field field);
+  void colorMapChanged(tp::gui::ColorMap::Kind kind);
+  void autoRangeChanged(bool on);
+  void rangeChanged(double lo, double hi);
+  void outlinesChanged(bool on);
+  void sectionChanged(bool enabled, int axis, double fraction, bool flip);
+
+ private:
+  void emitSection();
+  void updateUnits();
+
+  QComboBox *field_, *map_, *axis_;
+  QCheckBox *auto_, *outlines_, *section_, *flip_;
+  QDoubleSpinBox *lo_, *hi_;
+  QSlider* position_;
+};
+
+}  // namespace tp::gui

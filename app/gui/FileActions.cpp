@@ -1,0 +1,204 @@
+#include "FileActions.h"
+
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QMessageBox>
+#include <QSaveFile>
+#include <QSettings>
+
+#include "Curves.h"
+#include "PlotPanel.h"
+#include "RecentFiles.h"
+#include "ScreenshotDialog.h"
+#include "SessionFile.h"
+#include "SimulationController.h"
+#include "TissueView.h"
+#include "io/CurveCsv.h"
+
+namespace tp::gui {
+
+namespace {
+
+QString lastDir() {
+  return QSettings().value("lastDirectory").toString();
+}
+void rememberDir(const QString& file) {
+  QSettings().setValue("lastDirectory", QFileInfo(file).absolutePath());
+}
+
+}  // namespace
+
+void showError(QWidget* parent, const QString& title, const QString& text) {
+  auto* box = new QMessageBox(QMessageBox::Warning, title, text, QMessageBox::Ok, parent);
+  box->setObjectName("errorBox");
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();  // window-modal, returns at once
+}
+
+FileActions::FileActions(QWidget* window, SimulationController* controller, TissueView* view,
+                         PlotPanel* plot)
+    : QObject(window), window_(window), controller_(controller), view_(view), plot_(plot) {}
+
+void FileActions::open(const QString& path) {
+  if (QFileInfo(path).suffix().compare("json", Qt::CaseInsensitive) == 0) {
+    QString error;
+    if (!openSession(path, &error)) showError(window_, tr("Cannot open the session"), error);
+  } else {
+    openTissue(path);
+  }
+}
+
+void FileActions::openTissue(const QString& path) {
+  // Read and checked in the worker; a bad file comes back as SimulationController::loadFailed.
+  controller_->loadTissue(path);
+  if (!path.isEmpty()) {
+    RecentFiles::add(path);
+    emit recentFilesChanged();
+  }
+}
+
+bool FileActions::openSession(const QString& path, QString* error) {
+  try {
+    controller_->applySession(loadSession(path.toStdString()));
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  RecentFiles::add(path);
+  emit recentFilesChanged();
+  return true;
+}
+
+bool FileActions::saveSession(const QString& path, QString* error) {
+  try {
+    tp::gui::saveSession(path.toStdString(), controller_->session());
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  RecentFiles::add(path);
+  emit recentFilesChanged();
+  return true;
+}
+
+bool FileActions::exportCurves(const QString& path, QString* error) {
+  try {
+    writeCurvesCsv(path.toStdString(), controller_->curves());
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  return true;
+}
+
+bool FileActions::exportCurrentCurve(const QString& path, QString* error) {
+  const auto& curves = controller_->curves();
+  int i = plot_->selectedCurve();
+  if (i < 0 || i >= static_cast<int>(curves.size())) i = static_cast<int>(curves.size()) - 1;
+  if (i < 0) {
+    if (error) *error = tr("There is no curve yet: drag the probe or run a curve first.");
+    return false;
+  }
+  try {
+    writeCurveCsv(path.toStdString(), curves[i].points);
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  return true;
+}
+
+bool FileActions::exportScreenshot(const QString& path, const QSize& size, QString* error) {
+  const QImage image = view_->renderImage(size);
+  if (image.isNull()) {
+    if (error)
+      *error = tr("The 3D view could not be rendered at %1×%2 pixels")
+                   .arg(size.width())
+                   .arg(size.height());
+    return false;
+  }
+  QSaveFile file(path);
+  if (!file.open(QIODevice::WriteOnly) || !image.save(&file, "PNG") || !file.commit()) {
+    if (error) *error = tr("%1: %2").arg(path, file.errorString());
+    return false;
+  }
+  return true;
+}
+
+QString FileActions::askSave(const QString& title, const QString& name, const QString& filter) {
+  const QString path = QFileDialog::getSaveFileName(
+      window_, title, lastDir().isEmpty() ? name : lastDir() + "/" + name, filter);
+  if (!path.isEmpty()) rememberDir(path);
+  return path;
+}
+
+void FileActions::report(bool ok, const QString& what, const QString& path, const QString& error) {
+  if (ok)
+    emit statusMessage(tr("Wrote %1 to %2").arg(what, path));
+  else
+    showError(window_, tr("Cannot write the %1").arg(what), error);
+}
+
+void FileActions::openTissueDialog() {
+  const QString path = QFileDialog::getOpenFileName(window_, tr("Open a tissue"), lastDir(),
+                                                    tr("Tissues (*.ply);;All files (*)"));
+  if (path.isEmpty()) return;
+  rememberDir(path);
+  openTissue(path);
+}
+
+void FileActions::openSessionDialog() {
+  const QString path = QFileDialog::getOpenFileName(window_, tr("Open a session"), lastDir(),
+                                                    tr("TissueProbe sessions (*.json)"));
+  if (path.isEmpty()) return;
+  rememberDir(path);
+  open(path);
+}
+
+void FileActions::saveSessionDialog() {
+  const QString path =
+      askSave(tr("Save the session"), "session.json", tr("TissueProbe sessions (*.json)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(saveSession(path, &error), tr("session"), path, error);
+}
+
+void FileActions::exportPlotDialog() {
+  const QString path = askSave(tr("Export the plot"), "curves.png",
+                               tr("PNG image (*.png);;SVG drawing (*.svg);;PDF document (*.pdf)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(plot_->exportImage(path, 0, 0, &error), tr("plot"), path, error);
+}
+
+void FileActions::exportCurvesDialog() {
+  const QString path = askSave(tr("Export every curve"), "curves.csv", tr("CSV (*.csv)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(exportCurves(path, &error), tr("curves"), path, error);
+}
+
+void FileActions::exportCurrentCurveDialog() {
+  const QString path = askSave(tr("Export the curve"), "curve.csv", tr("CSV (*.csv)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(exportCurrentCurve(path, &error), tr("curve"), path, error);
+}
+
+void FileActions::exportScreenshotDialog() {
+  ScreenshotDialog dialog(view_->size() * view_->devicePixelRatioF(), window_);
+  if (dialog.exec() != QDialog::Accepted) return;
+  const QString path = askSave(tr("Save a screenshot"), "tissue.png", tr("PNG image (*.png)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(exportScreenshot(path, dialog.imageSize(), &error), tr("screenshot"), path, error);
+}
+
+void FileActions::exportVtuDialog() {
+  const QString path =
+      askSave(tr("Export the deformed state"), "state.vtu", tr("VTK unstructured grid (*.vtu)"));
+  if (path.isEmpty()) return;
+  controller_->exportVtu(path);  // written by the worker, which owns the state
+}
+
+}  // namespace tp::gui

@@ -1,0 +1,63 @@
+#pragma once
+// Opening, saving and exporting, with and without dialogs: tissues (PLY) and sessions (JSON),
+// the plot (PNG/SVG/PDF), the curves (CSV), a screenshot of the 3D view (PNG at a chosen size)
+// and the deformed state (VTU, written by the worker). Every write is atomic. Errors appear in
+// a message box that does not block (tests keep running); the dialog-free functions return them.
+
+#include <QObject>
+#include <QSize>
+#include <QString>
+
+class QWidget;
+
+namespace tp::gui {
+
+class PlotPanel;
+class SimulationController;
+class TissueView;
+
+/// A warning box that names the problem, shown without blocking the event loop.
+void showError(QWidget* parent, const QString& title, const QString& text);
+
+class FileActions : public QObject {
+  Q_OBJECT
+
+ public:
+  FileActions(QWidget* window, SimulationController* controller, TissueView* view, PlotPanel* plot);
+
+  /// A session (*.json) or a tissue (anything else).
+  void open(const QString& path);
+  void openTissue(const QString& path);
+  bool openSession(const QString& path, QString* error);
+  bool saveSession(const QString& path, QString* error);
+  /// Every curve in one long-format CSV (a `curve` column).
+  bool exportCurves(const QString& path, QString* error);
+  /// The selected curve (else the newest) as tp::writeCurveCsv writes it.
+  bool exportCurrentCurve(const QString& path, QString* error);
+  bool exportScreenshot(const QString& path, const QSize& size, QString* error);
+
+ public slots:
+  void openTissueDialog();
+  void openSessionDialog();
+  void saveSessionDialog();
+  void exportPlotDialog();
+  void exportCurvesDialog();
+  void exportCurrentCurveDialog();
+  void exportScreenshotDialog();
+  void exportVtuDialog();
+
+ signals:
+  void recentFilesChanged();
+  void statusMessage(const QString& text);
+
+ private:
+  QString askSave(const QString& title, const QString& name, const QString& filter);
+  void report(bool ok, const QString& what, const QString& path, const QString& error);
+
+  QWidget* window_;
+  SimulationController* controller_;
+  TissueView* view_;
+  PlotPanel* plot_;
+};
+
+}  // namespace tp::gui

@@ -1,0 +1,58 @@
+#pragma once
+// The thin OpenGL layer: compiles the shaders, uploads the arrays SnapshotBuffers made and draws
+// a frame (walls, outlines, clamped vertices, probe). Needs a current OpenGL 3.3 core context;
+// owned by TissueView, which calls release() before its context goes away.
+
+#include <QOpenGLBuffer>
+#include <QOpenGLExtraFunctions>
+#include <QOpenGLShaderProgram>
+#include <QOpenGLVertexArrayObject>
+#include <QSize>
+#include <QString>
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+
+#include "Picking.h"
+#include "SnapshotBuffers.h"
+
+namespace tp::gui {
+
+class GlRenderer : protected QOpenGLExtraFunctions {
+ public:
+  struct Frame {
+    Eigen::Matrix4f viewProjection = Eigen::Matrix4f::Identity();
+    Eigen::Vector3f eye = Eigen::Vector3f::Zero();  // µm
+    std::optional<ClipPlane> clip;
+    int highlightCell = -1;
+    bool outlines = true;
+    bool clampedPoints = true;
+    bool probe = false;
+    Eigen::Vector3f probeCenter = Eigen::Vector3f::Zero();  // µm
+    float probeRadius = 1;                                  // µm
+    Eigen::Vector3f probeAxis = -Eigen::Vector3f::UnitZ();  // unit, into the tissue
+    float stemLength = 0;                                   // µm, 0 = no stem
+    Eigen::Vector3f background = Eigen::Vector3f(0.97f, 0.97f, 0.98f);
+  };
+
+  GlRenderer();
+  ~GlRenderer();
+  /// Compiles the shaders and creates the buffers; false (with a message) on failure.
+  bool initialize(QString* error);
+  bool initialized() const { return initialized_; }
+  /// Frees every GL object (the context must be current).
+  void release();
+  void upload(const SnapshotBuffers& buffers);
+  /// Draws into the bound framebuffer of `pixels` size.
+  void render(const Frame& frame, const QSize& pixels);
+
+ private:
+  bool initialized_ = false;
+  std::unique_ptr<QOpenGLShaderProgram> walls_, lines_;
+  QOpenGLVertexArrayObject wallVao_, lineVao_, pointVao_, sphereVao_, stemVao_;
+  QOpenGLBuffer wallVbo_, lineVbo_, pointVbo_, sphereVbo_, stemVbo_;
+  int wallVertices_ = 0, lineVertices_ = 0, pointVertices_ = 0, sphereVertices_ = 0;
+};
+
+}  // namespace tp::gui

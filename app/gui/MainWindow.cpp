@@ -1,0 +1,305 @@
+#include "MainWindow.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QFileInfo>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QScrollArea>
+#include <QSettings>
+#include <QStatusBar>
+#include <QToolBar>
+
+#include "BusyIndicator.h"
+#include "DisplayPanel.h"
+#include "FileActions.h"
+#include "ParameterPanel.h"
+#include "PlotPanel.h"
+#include "RecentFiles.h"
+#include "Resources.h"
+#include "SimulationController.h"
+#include "TissueView.h"
+
+namespace tp::gui {
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
+  initResources();
+  setObjectName("mainWindow");
+  setWindowTitle(tr("TissueProbe"));
+  setWindowIcon(QIcon(":/icons/tissueprobe.svg"));
+  setAcceptDrops(true);
+  controller_ = new SimulationController(this);
+  view_ = new TissueView;
+  setCentralWidget(view_);
+  params_ = new ParameterPanel;
+  display_ = new DisplayPanel;
+  plot_ = new PlotPanel;
+  files_ = new FileActions(this, controller_, view_, plot_);
+  createDocks();
+  createMenus();
+  createStatusBar();
+  wire();
+  controller_->setParams(params_->params());
+  controller_->setSchedule(params_->schedule());
+  resize(1280, 800);
+  QSettings settings;
+  restoreGeometry(settings.value("window/geometry").toByteArray());
+  restoreState(settings.value("window/state").toByteArray());
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::createDocks() {
+  // The parameters take the full height on the left; the plot spans the rest of the width.
+  setCorner(Qt::BottomLeftCorner, Qt::LeftDockWidgetArea);
+  auto dock = [this](const QString& title, const char* name, QWidget* w, Qt::DockWidgetArea area) {
+    auto* d = new QDockWidget(title, this);
+    d->setObjectName(name);  // restoreState finds docks by name
+    d->setWidget(w);
+    addDockWidget(area, d);
+    return d;
+  };
+  auto* scroll = new QScrollArea;  // the parameter panel is tall: scroll on small screens
+  scroll->setWidget(params_);
+  scroll->setWidgetResizable(true);
+  scroll->setFrameShape(QFrame::NoFrame);
+  scroll->setMinimumWidth(params_->sizeHint().width() + 20);
+  auto* p = dock(tr("Parameters"), "parametersDock", scroll, Qt::LeftDockWidgetArea);
+  auto* d = dock(tr("Colour and section"), "displayDock", display_, Qt::RightDockWidgetArea);
+  auto* c = dock(tr("Force–depth curves"), "plotDock", plot_, Qt::BottomDockWidgetArea);
+  resizeDocks({c}, {260}, Qt::Vertical);
+  viewMenu_ = new QMenu(tr("&View"), this);
+  for (auto* w : {p, d, c}) viewMenu_->addAction(w->toggleViewAction());
+}
+
+void MainWindow::createMenus() {
+  auto add = [this](QMenu* m, const QString& text, const QKeySequence& key, const QString& tip,
+                    auto slot) {
+    QAction* a = m->addAction(text);
+    if (!key.isEmpty()) a->setShortcut(key);
+    a->setStatusTip(tip);
+    a->setToolTip(tip);
+    connect(a, &QAction::triggered, this, slot);
+    addAction(a);  // shortcuts work while the menu bar is hidden, too
+    return a;
+  };
+  QMenu* file = menuBar()->addMenu(tr("&File"));
+  QAction* open = add(file, tr("&Open tissue…"), QKeySequence::Open, tr("Open a tissue (PLY)"),
+                      [this] { files_->openTissueDialog(); });
+  add(file, tr("Open &session…"), QKeySequence(tr("Ctrl+Shift+O")),
+      tr("Open a saved session (JSON)"), [this] { files_->openSessionDialog(); });
+  recentMenu_ = file->addMenu(tr("Open &recent"));
+  QAction* save = add(file, tr("&Save session…"), QKeySequence::Save,
+                      tr("Save the tissue, parameters, sites and curves (JSON)"),
+                      [this] { files_->saveSessionDialog(); });
+  file->addSeparator();
+  add(file, tr("Export &plot…"), QKeySequence(tr("Ctrl+E")), tr("The plot as PNG, SVG or PDF"),
+      [this] { files_->exportPlotDialog(); });
+  add(file, tr("Export all &curves (CSV)…"), QKeySequence(tr("Ctrl+Shift+E")),
+      tr("Every curve in one CSV with a 'curve' column"), [this] { files_->exportCurvesDialog(); });
+  add(file, tr("Export selected curve (CSV)…"), QKeySequence(),
+      tr("The selected (else the newest) curve"), [this] { files_->exportCurrentCurveDialog(); });
+  QAction* shot = add(file, tr("Screens&hot of the 3D view…"), QKeySequence(tr("Ctrl+Shift+S")),
+                      tr("A PNG of the 3D view at a chosen size"),
+                      [this] { files_->exportScreenshotDialog(); });
+  add(file, tr("Export deformed state (&VTU)…"), QKeySequence(tr("Ctrl+Shift+U")),
+      tr("The current state with stress fields, for ParaView"),
+      [this] { files_->exportVtuDialog(); });
+  file->addSeparator();
+  add(file, tr("&Quit"), QKeySequence::Quit, tr("Quit TissueProbe"), [this] { close(); });
+
+  menuBar()->addMenu(viewMenu_);
+  viewMenu_->addSeparator();
+  QAction* fit = add(viewMenu_, tr("&Fit to view"), QKeySequence(Qt::Key_F),
+                     tr("Show the whole tissue (F)"), [this] { view_->fitToView(); });
+  add(viewMenu_, tr("Front view"), QKeySequence(Qt::Key_1), tr("Look along +y (1)"),
+      [this] { view_->setStandardView(Camera::StandardView::Front); });
+  add(viewMenu_, tr("Right view"), QKeySequence(Qt::Key_3), tr("Look along −x (3)"),
+      [this] { view_->setStandardView(Camera::StandardView::Right); });
+  add(viewMenu_, tr("Top view"), QKeySequence(Qt::Key_7), tr("Look down −z (7)"),
+      [this] { view_->setStandardView(Camera::StandardView::Top); });
+  add(viewMenu_, tr("&Reset view"), QKeySequence(Qt::Key_R), tr("The initial view (R)"),
+      [this] { view_->resetView(); });
+  add(viewMenu_, tr("&Zoom to the probe"), QKeySequence(Qt::Key_Z),
+      tr("Frame the probe and the cells around it (Z)"), [this] { view_->zoomToProbe(); });
+  QAction* arcball = viewMenu_->addAction(tr("&Arcball rotation"));
+  arcball->setCheckable(true);
+  arcball->setToolTip(tr("Turn freely (arcball) instead of about the vertical axis (turntable)"));
+  connect(arcball, &QAction::toggled, this, [this](bool on) {
+    view_->setRotationMode(on ? Camera::RotationMode::Arcball : Camera::RotationMode::Turntable);
+  });
+
+  QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
+  QAction* run =
+      add(sim, tr("&Run curve"), QKeySequence(Qt::Key_Space),
+          tr("Run the loading schedule from depth 0 (Space)"), [this] { controller_->runCurve(); });
+  QAction* cancel = add(sim, tr("&Cancel"), QKeySequence(Qt::Key_Escape),
+                        tr("Stop the running curve after its current point (Esc)"),
+                        [this] { controller_->cancelRun(); });
+  sim->addSeparator();
+  add(sim, tr("&Turgid preset"), QKeySequence(), tr("Turgor p = 0.8 MPa"),
+      [this] { params_->applyTurgidPreset(); });
+  add(sim, tr("&Plasmolysed preset"), QKeySequence(), tr("Turgor p = 0"),
+      [this] { params_->applyPlasmolysedPreset(); });
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  add(help, tr("&Mouse and keys"), QKeySequence::HelpContents, tr("How to drive the 3D view"),
+      [this] { showControls(); });
+  add(help, tr("&About TissueProbe"), QKeySequence(), tr("About"), [this] {
+    QMessageBox::about(this, tr("About TissueProbe"),
+                       tr("TissueProbe: an AFM-style spherical probe indenting a plant tissue of "
+                          "polyhedral cells under turgor.\nUnits: µm, MPa, µN."));
+  });
+
+  QToolBar* tools = addToolBar(tr("Tools"));
+  tools->setObjectName("toolBar");
+  open->setIcon(QIcon(":/icons/open.svg"));
+  save->setIcon(QIcon(":/icons/save.svg"));
+  run->setIcon(QIcon(":/icons/run.svg"));
+  cancel->setIcon(QIcon(":/icons/cancel.svg"));
+  fit->setIcon(QIcon(":/icons/fit.svg"));
+  shot->setIcon(QIcon(":/icons/screenshot.svg"));
+  for (QAction* a : {open, save, run, cancel, fit, shot}) tools->addAction(a);
+  viewMenu_->insertAction(viewMenu_->actions().value(3), tools->toggleViewAction());
+  updateRecentMenu();
+}
+
+void MainWindow::createStatusBar() {
+  busy_ = new BusyIndicator;
+  hoverLabel_ = new QLabel;
+  probeLabel_ = new QLabel;
+  probeLabel_->setObjectName("probeLabel");
+  statusBar()->addWidget(busy_);
+  statusBar()->addPermanentWidget(hoverLabel_);
+  statusBar()->addPermanentWidget(probeLabel_);
+}
+
+void MainWindow::wire() {
+  SimulationController* c = controller_;
+  // Worker results → view, status, plot.
+  connect(c, &SimulationController::snapshotReady, view_, &TissueView::setSnapshot);
+  connect(c, &SimulationController::snapshotReady, this, [this](const Snapshot& s) {
+    probeLabel_->setText(
+        s.probeVisible
+            ? tr("depth %1 µm · force %2 µN").arg(s.depth, 0, 'f', 3).arg(s.force, 0, 'g', 4)
+            : QString::fromStdString(s.status));
+  });
+  connect(c, &SimulationController::curvesChanged, this,
+          [this] { plot_->setCurves(controller_->curves(), controller_->meanCellSize()); });
+  connect(c, &SimulationController::busyChanged, busy_, &BusyIndicator::setBusy);
+  connect(c, &SimulationController::statusMessage, this,
+          [this](const QString& m) { statusBar()->showMessage(m, 5000); });
+  connect(c, &SimulationController::solveFailed, this, [this](const QString& m) {
+    statusBar()->showMessage(tr("Not converged: %1").arg(m), 15000);
+  });
+  connect(c, &SimulationController::loadFailed, this, [this](const QString& m) {
+    view_->setPlaceholder(
+        tr("No tissue: open one with File ▸ Open tissue (Ctrl+O) or drop a "
+           ".ply file here"));
+    showError(this, tr("Cannot open the tissue"), m);
+  });
+  connect(c, &SimulationController::tissueLoaded, this,
+          [this](const QString& path, const QString& summary) {
+            setWindowTitle(tr("TissueProbe — %1").arg(QFileInfo(path).fileName()));
+            statusBar()->showMessage(tr("Loaded %1: %2").arg(path, summary), 5000);
+          });
+  connect(c, &SimulationController::exportFinished, this,
+          [this](const QString& path, bool ok, const QString& m) {
+            if (ok)
+              statusBar()->showMessage(tr("Wrote %1").arg(path), 5000);
+            else
+              showError(this, tr("Cannot write the state"), m);
+          });
+  // Parameters, depth and runs.
+  connect(params_, &ParameterPanel::paramsChanged, c, &SimulationController::setParams);
+  connect(params_, &ParameterPanel::scheduleChanged, c, &SimulationController::setSchedule);
+  connect(c, &SimulationController::paramsChanged, params_, &ParameterPanel::setParams);
+  connect(c, &SimulationController::scheduleChanged, params_, &ParameterPanel::setSchedule);
+  connect(params_, &ParameterPanel::depthChanged, c, &SimulationController::requestDepth);
+  connect(params_, &ParameterPanel::depthChanged, view_, &TissueView::setRequestedDepth);
+  connect(view_, &TissueView::depthRequested, params_, &ParameterPanel::setDepth);
+  connect(c, &SimulationController::requestedDepthChanged, params_, &ParameterPanel::showDepth);
+  connect(c, &SimulationController::requestedDepthChanged, view_, &TissueView::setRequestedDepth);
+  connect(params_, &ParameterPanel::runRequested, c, &SimulationController::runCurve);
+  connect(params_, &ParameterPanel::cancelRequested, c, &SimulationController::cancelRun);
+  connect(c, &SimulationController::runningChanged, params_, &ParameterPanel::setRunning);
+  connect(c, &SimulationController::runProgress, params_, &ParameterPanel::setProgress);
+  // The view.
+  connect(view_, &TissueView::sitePicked, c, &SimulationController::pickSite);
+  connect(view_, &TissueView::pickRejected, this,
+          [this](const QString& why) { statusBar()->showMessage(why, 5000); });
+  connect(view_, &TissueView::hoverChanged, hoverLabel_, &QLabel::setText);
+  connect(display_, &DisplayPanel::fieldChanged, view_, &TissueView::setField);
+  connect(display_, &DisplayPanel::colorMapChanged, view_, &TissueView::setColorMapKind);
+  connect(display_, &DisplayPanel::autoRangeChanged, view_, &TissueView::setAutoRange);
+  connect(display_, &DisplayPanel::rangeChanged, view_, &TissueView::setRange);
+  connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
+  connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
+  connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
+  // The plot and the files.
+  connect(plot_, &PlotPanel::removeRequested, c, &SimulationController::removeCurve);
+  connect(plot_, &PlotPanel::clearRequested, c, &SimulationController::clearCurves);
+  connect(files_, &FileActions::recentFilesChanged, this, &MainWindow::updateRecentMenu);
+  connect(files_, &FileActions::statusMessage, this,
+          [this](const QString& m) { statusBar()->showMessage(m, 5000); });
+}
+
+void MainWindow::updateRecentMenu() {
+  recentMenu_->clear();
+  const QStringList files = RecentFiles::list();
+  for (const QString& f : files)
+    connect(recentMenu_->addAction(QFileInfo(f).fileName()), &QAction::triggered, this,
+            [this, f] { files_->open(f); });
+  if (!files.isEmpty()) recentMenu_->addSeparator();
+  QAction* clear = recentMenu_->addAction(tr("Clear the list"));
+  clear->setEnabled(!files.isEmpty());
+  connect(clear, &QAction::triggered, this, [this] {
+    RecentFiles::clear();
+    updateRecentMenu();
+  });
+}
+
+void MainWindow::showControls() {
+  QMessageBox::information(
+      this, tr("Mouse and keys"),
+      tr("Left drag: turn the tissue (turntable, or arcball from the View menu)\n"
+         "Shift+left or middle drag: pan · Wheel: zoom\n"
+         "Hover: the cell under the cursor is highlighted and named in the status bar\n"
+         "Left click on the outer surface: choose the indentation site\n"
+         "Right drag or Ctrl+left drag (vertically): push the probe in or pull it out\n"
+         "Arrows: turn · +/-: zoom · F: fit · 1/3/7: front/right/top · R: reset · "
+         "Z: zoom to the probe\n"
+         "Space: run the curve · Esc: cancel"));
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+  QSettings settings;
+  settings.setValue("window/geometry", saveGeometry());
+  settings.setValue("window/state", saveState());
+  controller_->cancelRun();
+  QMainWindow::closeEvent(e);
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
+  for (const QUrl& url : e->mimeData()->urls())
+    if (url.isLocalFile()) {
+      e->acceptProposedAction();
+      return;
+    }
+}
+
+void MainWindow::dropEvent(QDropEvent* e) {
+  for (const QUrl& url : e->mimeData()->urls())
+    if (url.isLocalFile()) {
+      files_->open(url.toLocalFile());
+      e->acceptProposedAction();
+      return;
+    }
+}
+
+}  // namespace tp::gui

@@ -1,0 +1,60 @@
+#pragma once
+// The main window: lays out the 3D view and the docks (parameters, colour and section, plot),
+// builds the menus and shortcuts, and wires the panels to the SimulationController. Nothing
+// else: the work is in the classes it connects.
+
+#include <QMainWindow>
+
+class QLabel;
+class QMenu;
+
+namespace tp::gui {
+
+class BusyIndicator;
+class DisplayPanel;
+class FileActions;
+class ParameterPanel;
+class PlotPanel;
+class SimulationController;
+class TissueView;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  explicit MainWindow(QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  SimulationController* controller() const { return controller_; }
+  TissueView* view() const { return view_; }
+  PlotPanel* plotPanel() const { return plot_; }
+  ParameterPanel* parameterPanel() const { return params_; }
+  DisplayPanel* displayPanel() const { return display_; }
+  FileActions* fileActions() const { return files_; }
+
+ protected:
+  void closeEvent(QCloseEvent* e) override;
+  void dragEnterEvent(QDragEnterEvent* e) override;
+  void dropEvent(QDropEvent* e) override;
+
+ private:
+  void createDocks();
+  void createMenus();
+  void createStatusBar();
+  void wire();
+  void updateRecentMenu();
+  void showControls();
+
+  SimulationController* controller_;
+  TissueView* view_;
+  ParameterPanel* params_;
+  DisplayPanel* display_;
+  PlotPanel* plot_;
+  FileActions* files_;
+  QMenu* recentMenu_ = nullptr;
+  QMenu* viewMenu_ = nullptr;
+  BusyIndicator* busy_;
+  QLabel *hoverLabel_, *probeLabel_;
+};
+
+}  // namespace tp::gui

@@ -1,0 +1,127 @@
+#include "Parameters.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace tp::gui {
+
+namespace {
+
+double number(const nlohmann::json& j, const char* key, double fallback) {
+  if (!j.contains(key)) return fallback;
+  const auto& v = j.at(key);
+  if (!v.is_number()) throw std::runtime_error(std::string("'") + key + "' must be a number");
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw std::runtime_error(std::string("'") + key + "' must be finite");
+  return x;
+}
+
+int integer(const nlohmann::json& j, const char* key, int fallback) {
+  if (!j.contains(key)) return fallback;
+  const auto& v = j.at(key);
+  if (!v.is_number_integer())
+    throw std::runtime_error(std::string("'") + key + "' must be an integer");
+  return v.get<int>();
+}
+
+bool boolean(const nlohmann::json& j, const char* key, bool fallback) {
+  if (!j.contains(key)) return fallback;
+  const auto& v = j.at(key);
+  if (!v.is_boolean()) throw std::runtime_error(std::string("'") + key + "' must be true or false");
+  return v.get<bool>();
+}
+
+}  // namespace
+
+Material SimulationParams::material() const {
+  Material m;
+  m.youngModulus = youngModulus;
+  m.poissonRatio = poissonRatio;
+  m.thickness = thickness;
+  m.bending = bending;
+  return m;
+}
+
+SimulationParams turgidPreset(SimulationParams p) {
+  p.pressure = 0.8;
+  return p;
+}
+
+SimulationParams plasmolysedPreset(SimulationParams p) {
+  p.pressure = 0.0;
+  return p;
+}
+
+std::string describe(const SimulationParams& p) {
+  std::ostringstream s;
+  s << "E " << p.youngModulus << " MPa, p " << p.pressure << " MPa, r " << p.probeRadius << " µm";
+  if (p.thickness != 0.2) s << ", h " << p.thickness << " µm";
+  if (p.poissonRatio != 0.49) s << ", ν " << p.poissonRatio;
+  if (p.bending != BendingModel::Hinge) s << ", " << toString(p.bending);
+  if (p.refineLevel > 0) s << ", refined ×" << p.refineLevel;
+  return s.str();
+}
+
+nlohmann::json toJson(const SimulationParams& p) {
+  return {{"E_MPa", p.youngModulus},        {"nu", p.poissonRatio},
+          {"thickness_um", p.thickness},    {"pressure_MPa", p.pressure},
+          {"bending", toString(p.bending)}, {"probe_radius_um", p.probeRadius},
+          {"refine_level", p.refineLevel},  {"refine_radius_um", p.refineRadius}};
+}
+
+nlohmann::json toJson(const Schedule& s) {
+  return {{"control", s.control == Control::Force ? "force" : "depth"},
+          {"max_depth_um", s.maxDepth},
+          {"max_force_uN", s.maxForce},
+          {"steps", s.steps},
+          {"unload", s.unload}};
+}
+
+SimulationParams paramsFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("parameters must be a JSON object");
+  SimulationParams p;
+  p.youngModulus = number(j, "E_MPa", p.youngModulus);
+  p.poissonRatio = number(j, "nu", p.poissonRatio);
+  p.thickness = number(j, "thickness_um", p.thickness);
+  p.pressure = number(j, "pressure_MPa", p.pressure);
+  if (j.contains("bending")) {
+    if (!j.at("bending").is_string()) throw std::runtime_error("'bending' must be a string");
+    try {
+      p.bending = parseBendingModel(j.at("bending").get<std::string>());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string("'bending': ") + e.what());
+    }
+  }
+  p.probeRadius = number(j, "probe_radius_um", p.probeRadius);
+  p.refineLevel = integer(j, "refine_level", p.refineLevel);
+  p.refineRadius = number(j, "refine_radius_um", p.refineRadius);
+  if (!(p.probeRadius > 0)) throw std::runtime_error("'probe_radius_um' must be positive");
+  if (p.refineLevel < 0 || p.refineLevel > 4)
+    throw std::runtime_error("'refine_level' must be between 0 and 4");
+  try {
+    p.material().validate();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(e.what());
+  }
+  return p;
+}
+
+Schedule scheduleFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("the schedule must be a JSON object");
+  Schedule s;
+  if (j.contains("control")) {
+    const auto& c = j.at("control");
+    if (!c.is_string() || (c != "force" && c != "depth"))
+      throw std::runtime_error("'control' must be \"depth\" or \"force\"");
+    s.control = c == "force" ? Control::Force : Control::Depth;
+  }
+  s.maxDepth = number(j, "max_depth_um", s.maxDepth);
+  s.maxForce = number(j, "max_force_uN", s.maxForce);
+  s.steps = integer(j, "steps", s.steps);
+  s.unload = boolean(j, "unload", s.unload);
+  if (s.steps < 1) throw std::runtime_error("'steps' must be at least 1");
+  return s;
+}
+
+}  // namespace tp::gui

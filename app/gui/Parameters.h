@@ -1,0 +1,50 @@
+#pragma once
+// The parameters a user sets in the window: material, turgor, probe and refinement (what a
+// preparation depends on) and the loading schedule of a "Run curve". Units: µm, MPa, µN.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "experiment/Indentation.h"
+#include "mechanics/Material.h"
+
+namespace tp::gui {
+
+struct SimulationParams {
+  double youngModulus = 100.0;  // E, MPa
+  double poissonRatio = 0.49;   // ν
+  double thickness = 0.2;       // h, µm
+  double pressure = 0.8;        // turgor p of every cell, MPa
+  BendingModel bending = BendingModel::Hinge;
+  double probeRadius = 1.0;  // µm
+  int refineLevel = 0;       // subdivisions of the walls near the site (0–4)
+  double refineRadius = 0;   // µm; 0 = the larger of 3 probe radii and one cell
+
+  Material material() const;
+  bool operator==(const SimulationParams&) const = default;
+};
+
+/// "Turgid": p = 0.8 MPa (the meristem's turgor); "Plasmolysed": p = 0. Other values are kept.
+SimulationParams turgidPreset(SimulationParams p);
+SimulationParams plasmolysedPreset(SimulationParams p);
+
+/// A short description for curve names and legends, e.g. "E 100 MPa, p 0.8 MPa, r 1 µm".
+std::string describe(const SimulationParams& p);
+
+struct Schedule {
+  Control control = Control::Depth;
+  double maxDepth = 0.5;  // µm (depth control)
+  double maxForce = 20;   // µN (force control)
+  int steps = 10;
+  bool unload = false;
+  bool operator==(const Schedule&) const = default;
+};
+
+nlohmann::json toJson(const SimulationParams& p);
+nlohmann::json toJson(const Schedule& s);
+/// Missing keys keep their defaults; a key of the wrong type or an invalid value throws
+/// std::runtime_error naming it.
+SimulationParams paramsFromJson(const nlohmann::json& j);
+Schedule scheduleFromJson(const nlohmann::json& j);
+
+}  // namespace tp::gui

@@ -1,0 +1,191 @@
+#include "PlotPanel.h"
+
+#include <QCheckBox>
+#include <QFileInfo>
+#include <QHBoxLayout>
+#include <QListWidget>
+#include <QPdfWriter>
+#include <QPushButton>
+#include <QSaveFile>
+#include <QSvgGenerator>
+#include <QVBoxLayout>
+
+#include <qcustomplot.h>
+#include <cmath>
+#include <memory>
+
+namespace tp::gui {
+
+namespace {
+
+// Distinguishable colours (Tableau 10), in the order curves are added.
+const QColor kPalette[] = {QColor(31, 119, 180),  QColor(255, 127, 14),  QColor(44, 160, 44),
+                           QColor(214, 39, 40),   QColor(148, 103, 189), QColor(140, 86, 75),
+                           QColor(227, 119, 194), QColor(127, 127, 127), QColor(188, 189, 34),
+                           QColor(23, 190, 207)};
+
+}  // namespace
+
+PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
+  setObjectName("plotPanel");
+  plot_ = new QCustomPlot;
+  plot_->setObjectName("forceDepthPlot");
+  plot_->setMinimumSize(320, 200);
+  plot_->legend->setVisible(true);
+  plot_->legend->setFont(QFont(font().family(), 8));
+  plot_->legend->setBrush(QColor(255, 255, 255, 220));
+  plot_->axisRect()->insetLayout()->setInsetAlignment(0, Qt::AlignTop | Qt::AlignLeft);
+  plot_->setInteractions(QCP::iRangeDrag | QCP::iRangeZoom);
+  plot_->setToolTip(tr("Force–depth curves: drag to pan, wheel to zoom"));
+
+  list_ = new QListWidget;
+  list_->setObjectName("curveList");
+  list_->setToolTip(tr("Curves on the plot; select one to remove it"));
+  list_->setMaximumWidth(220);
+  list_->setTextElideMode(Qt::ElideMiddle);
+  list_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  auto* remove = new QPushButton(tr("Remove"));
+  remove->setToolTip(tr("Remove the selected curve"));
+  auto* clear = new QPushButton(tr("Clear"));
+  clear->setToolTip(tr("Remove every curve"));
+  nondim_ = new QCheckBox(tr("Nondimensional"));
+  nondim_->setToolTip(
+      tr("Axes [I] = I/L and [F] = F/(E L²), with L the mean cell size "
+         "cbrt(tissue volume / cells) and E each curve's Young's modulus"));
+
+  auto* side = new QVBoxLayout;
+  side->addWidget(list_, 1);
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(remove);
+  buttons->addWidget(clear);
+  side->addLayout(buttons);
+  side->addWidget(nondim_);
+  auto* layout = new QHBoxLayout(this);
+  layout->setContentsMargins(2, 2, 2, 2);
+  layout->addWidget(plot_, 1);
+  layout->addLayout(side);
+
+  connect(remove, &QPushButton::clicked, this, [this] {
+    if (selectedCurve() >= 0) emit removeRequested(selectedCurve());
+  });
+  connect(clear, &QPushButton::clicked, this, &PlotPanel::clearRequested);
+  connect(nondim_, &QCheckBox::toggled, this, &PlotPanel::redraw);
+  redraw();
+}
+
+bool PlotPanel::nondimensional() const {
+  return nondim_->isChecked();
+}
+void PlotPanel::setNondimensional(bool on) {
+  nondim_->setChecked(on);
+}
+int PlotPanel::selectedCurve() const {
+  return list_->currentRow();
+}
+
+void PlotPanel::setCurves(const std::vector<NamedCurve>& curves, double meanCellSize) {
+  curves_ = curves;
+  cellSize_ = meanCellSize;
+  // Keep the list (and its selection) when only points were added.
+  bool sameNames = list_->count() == static_cast<int>(curves_.size());
+  for (int i = 0; sameNames && i < list_->count(); ++i)
+    sameNames = list_->item(i)->text() == QString::fromStdString(curves_[i].name);
+  if (!sameNames) {
+    list_->clear();
+    for (const auto& c : curves_) {
+      list_->addItem(QString::fromStdString(c.name));
+      list_->item(list_->count() - 1)->setToolTip(QString::fromStdString(c.name));
+    }
+  }
+  redraw();
+}
+
+void PlotPanel::redraw() {
+  const bool nd = nondimensional() && cellSize_ > 0;
+  plot_->clearGraphs();
+  for (size_t i = 0; i < curves_.size(); ++i) {
+    const NamedCurve& c = curves_[i];
+    const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
+    QCPGraph* g = plot_->addGraph();
+    g->setName(QString::fromStdString(c.name));
+    const QColor colour = kPalette[i % std::size(kPalette)];
+    g->setPen(QPen(colour, 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
+    g->setScatterStyle(
+        QCPScatterStyle(c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5));
+    QVector<double> x, y;
+    for (const CurvePoint& p : c.points)
+      if (p.converged && std::isfinite(p.force)) {
+        x.push_back(p.depth * s.depth);
+        y.push_back(p.force * s.force);
+      }
+    g->setData(x, y);  // sorted by depth: a drag back and forth draws one curve
+  }
+  if (nd) {
+    plot_->xAxis->setLabel(tr("[I] = I / L   (L = %1 µm)").arg(cellSize_, 0, 'f', 2));
+    plot_->yAxis->setLabel(tr("[F] = F / (E L²)"));
+  } else {
+    plot_->xAxis->setLabel(tr("indentation depth I (µm)"));
+    plot_->yAxis->setLabel(tr("force F (µN)"));
+  }
+  plot_->rescaleAxes();
+  // Start both axes at zero and leave a margin above the data.
+  for (QCPAxis* a : {plot_->xAxis, plot_->yAxis}) {
+    QCPRange r = a->range();
+    const double hi = r.upper > 0 ? r.upper * 1.08 : 1.0;
+    a->setRange(std::min(0.0, r.lower), hi);
+  }
+  plot_->legend->setVisible(!curves_.empty());
+  plot_->replot(QCustomPlot::rpQueuedReplot);
+}
+
+bool PlotPanel::exportImage(const QString& path, int width, int height, QString* error) const {
+  const int w = width > 0 ? width : plot_->width();
+  const int h = height > 0 ? height : plot_->height();
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  QSaveFile file(path);  // written aside and renamed on commit: atomic
+  if (!file.open(QIODevice::WriteOnly)) {
+    if (error) *error = tr("%1: %2").arg(path, file.errorString());
+    return false;
+  }
+  bool ok = true;
+  if (suffix == "svg" || suffix == "pdf") {
+    QCPPainter painter;
+    std::unique_ptr<QPaintDevice> device;
+    if (suffix == "svg") {
+      auto* svg = new QSvgGenerator;
+      svg->setOutputDevice(&file);
+      svg->setSize(QSize(w, h));
+      svg->setViewBox(QRect(0, 0, w, h));
+      svg->setTitle(tr("TissueProbe force–depth curves"));
+      device.reset(svg);
+    } else {
+      auto* pdf = new QPdfWriter(&file);
+      pdf->setResolution(72);  // one device unit = one point
+      pdf->setPageSize(QPageSize(QSizeF(w, h), QPageSize::Point, QString(), QPageSize::ExactMatch));
+      pdf->setPageMargins(QMarginsF(0, 0, 0, 0));
+      pdf->setCreator(QStringLiteral("TissueProbe"));
+      device.reset(pdf);
+    }
+    ok = painter.begin(device.get());
+    if (ok) {
+      painter.setMode(QCPPainter::pmVectorized);
+      painter.setMode(QCPPainter::pmNoCaching);
+      plot_->toPainter(&painter, w, h);
+      painter.end();
+    }
+    device.reset();  // finishes the document before the commit
+  } else if (suffix == "png") {
+    ok = plot_->toPixmap(w, h).save(&file, "PNG");
+  } else {
+    if (error) *error = tr("%1: unknown format '%2' (use .png, .svg or .pdf)").arg(path, suffix);
+    file.cancelWriting();
+    return false;
+  }
+  if (!ok || !file.commit()) {
+    if (error) *error = tr("%1: could not write the plot (%2)").arg(path, file.errorString());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace tp::gui

@@ -1,0 +1,53 @@
+#pragma once
+// The force–depth plot (QCustomPlot): one graph per curve with a legend, a list to remove or
+// clear curves, real (µm, µN) or nondimensional axes ([I] = I/L, [F] = F/(E L²)), and export to
+// PNG, SVG or PDF (atomic writes).
+
+#include <QString>
+#include <QWidget>
+
+#include <vector>
+
+#include "Curves.h"
+
+class QCheckBox;
+class QCustomPlot;
+class QListWidget;
+
+namespace tp::gui {
+
+class PlotPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit PlotPanel(QWidget* parent = nullptr);
+
+  QCustomPlot* plot() const { return plot_; }
+  bool nondimensional() const;
+  void setNondimensional(bool on);
+  /// Index of the curve selected in the list, −1 if none.
+  int selectedCurve() const;
+
+  /// Writes the plot as PNG, SVG or PDF (by the suffix) at the given size in pixels (0: the
+  /// widget's size). False with a message on failure.
+  bool exportImage(const QString& path, int width, int height, QString* error) const;
+
+ public slots:
+  /// Redraws every curve; L is the mean cell size (µm) for nondimensional axes.
+  void setCurves(const std::vector<tp::gui::NamedCurve>& curves, double meanCellSize);
+
+ signals:
+  void removeRequested(int index);
+  void clearRequested();
+
+ private:
+  void redraw();
+
+  QCustomPlot* plot_;
+  QListWidget* list_;
+  QCheckBox* nondim_;
+  std::vector<NamedCurve> curves_;
+  double cellSize_ = 0;
+};
+
+}  // namespace tp::gui

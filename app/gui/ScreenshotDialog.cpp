@@ -1,0 +1,70 @@
+#include "ScreenshotDialog.h"
+
+#include <QCheckBox>
+#include <QDialogButtonBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QSpinBox>
+
+#include <cmath>
+
+namespace tp::gui {
+
+namespace {
+constexpr int kMaxSide = 8192;  // within every OpenGL implementation's renderbuffer limit
+}
+
+ScreenshotDialog::ScreenshotDialog(const QSize& viewSize, QWidget* parent)
+    : QDialog(parent), view_(viewSize.expandedTo(QSize(1, 1))) {
+  setWindowTitle(tr("Screenshot of the 3D view"));
+  width_ = new QSpinBox;
+  height_ = new QSpinBox;
+  for (auto* s : {width_, height_}) {
+    s->setRange(16, kMaxSide);
+    s->setSuffix(tr(" px"));
+  }
+  width_->setValue(view_.width());
+  height_->setValue(view_.height());
+  keepAspect_ = new QCheckBox(tr("Keep the view's aspect ratio"));
+  keepAspect_->setChecked(true);
+  auto* presets = new QHBoxLayout;
+  for (double f : {1.0, 2.0, 4.0}) {
+    auto* b = new QPushButton(tr("%1×").arg(f));
+    b->setToolTip(tr("%1 times the view's size").arg(f));
+    presets->addWidget(b);
+    connect(b, &QPushButton::clicked, this, [this, f] { scaleTo(f); });
+  }
+  connect(width_, &QSpinBox::valueChanged, this, [this](int w) {
+    if (!keepAspect_->isChecked()) return;
+    const QSignalBlocker block(height_);
+    height_->setValue(int(std::lround(w * double(view_.height()) / view_.width())));
+  });
+  connect(height_, &QSpinBox::valueChanged, this, [this](int h) {
+    if (!keepAspect_->isChecked()) return;
+    const QSignalBlocker block(width_);
+    width_->setValue(int(std::lround(h * double(view_.width()) / view_.height())));
+  });
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+  auto* form = new QFormLayout(this);
+  form->addRow(tr("Width"), width_);
+  form->addRow(tr("Height"), height_);
+  form->addRow(keepAspect_);
+  form->addRow(tr("Presets"), presets);
+  form->addRow(buttons);
+}
+
+void ScreenshotDialog::scaleTo(double factor) {
+  const QSignalBlocker a(width_), b(height_);
+  width_->setValue(int(std::lround(view_.width() * factor)));
+  height_->setValue(int(std::lround(view_.height() * factor)));
+}
+
+QSize ScreenshotDialog::imageSize() const {
+  return {width_->value(), height_->value()};
+}
+
+}  // namespace tp::gui

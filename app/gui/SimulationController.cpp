@@ -1,0 +1,233 @@
+#include "SimulationController.h"
+
+#include <algorithm>
+
+#include "SimulationWorker.h"
+
+namespace tp::gui {
+
+SimulationController::SimulationController(QObject* parent) : QObject(parent) {
+  qRegisterMetaType<tp::gui::Snapshot>();
+  thread_.setObjectName("simulation");
+  worker_ = new SimulationWorker;
+  worker_->moveToThread(&thread_);
+  // The worker emits from its thread: Qt queues each call into this (the GUI) thread, and the
+  // arguments (snapshots included) are copied.
+  connect(worker_, &SimulationWorker::snapshotReady, this, &SimulationController::onSnapshot);
+  connect(worker_, &SimulationWorker::busy, this, [this](const QString& what) {
+    busy_ = true;
+    emit busyChanged(true, what);
+  });
+  connect(worker_, &SimulationWorker::idle, this, [this] {
+    busy_ = false;
+    emit busyChanged(false, QString());
+  });
+  connect(worker_, &SimulationWorker::loaded, this,
+          [this](const QString& path, const QString& summary) {
+            // The sites belong to the tissue: they change only once the new one has loaded.
+            tissuePath_ = path;
+            sites_ = pendingSites_;
+            currentSite_ = pendingCurrentSite_;
+            emit tissueLoaded(path, summary);
+          });
+  connect(worker_, &SimulationWorker::loadFailed, this,
+          [this](const QString&, const QString& message) { emit loadFailed(message); });
+  connect(worker_, &SimulationWorker::failed, this, &SimulationController::solveFailed);
+  connect(worker_, &SimulationWorker::runStarted, this, &SimulationController::onRunStarted);
+  connect(worker_, &SimulationWorker::runProgress, this, &SimulationController::runProgress);
+  connect(worker_, &SimulationWorker::runFinished, this, &SimulationController::onRunFinished);
+  connect(worker_, &SimulationWorker::exported, this,
+          [this](const QString& path) { emit exportFinished(path, true, QString()); });
+  connect(worker_, &SimulationWorker::exportFailed, this,
+          [this](const QString& path, const QString& message) {
+            emit exportFinished(path, false, message);
+          });
+  thread_.start();
+}
+
+SimulationController::~SimulationController() {
+  worker_->stop();
+  thread_.quit();
+  thread_.wait();
+  delete worker_;  // its thread has finished: nothing runs in it any more
+}
+
+double SimulationController::meanCellSize() const {
+  return latest_.empty() ? 0.0 : latest_.geometry->meanCellSize;
+}
+
+void SimulationController::loadTissue(const QString& path) {
+  cancelRun();  // a running curve would hold the new tissue back
+  // A new tissue starts without sites; its curves stay on the plot for comparison.
+  pendingSites_.clear();
+  pendingCurrentSite_ = -1;
+  worker_->requestLoad(path, params_, SiteRequest{});
+}
+
+void SimulationController::setParams(const SimulationParams& params) {
+  if (params == params_) return;
+  params_ = params;
+  SiteRequest site;
+  site.kind = SiteRequest::Kind::Current;  // whatever site the worker has when it gets there
+  if (!latest_.empty()) worker_->requestPrepare(params_, site);
+}
+
+void SimulationController::setSchedule(const Schedule& schedule) {
+  schedule_ = schedule;
+}
+
+void SimulationController::pickSite(int generation, int triangle,
+                                    const Eigen::Vector3d& barycentric) {
+  if (running_) return;
+  SiteRequest site;
+  site.kind = SiteRequest::Kind::Pick;
+  site.generation = generation;
+  site.triangle = triangle;
+  site.barycentric = barycentric;
+  worker_->requestPrepare(params_, site);
+}
+
+void SimulationController::requestDepth(double depth) {
+  depth = std::max(0.0, depth);
+  if (running_ || !prepared()) return;
+  requestedDepth_ = depth;
+  worker_->requestDepth(depth);
+}
+
+void SimulationController::setRequestedDepth(double depth) {
+  if (depth == requestedDepth_) return;
+  requestedDepth_ = depth;
+  emit requestedDepthChanged(depth);
+}
+
+void SimulationController::runCurve() {
+  if (running_ || !prepared()) return;
+  running_ = true;
+  emit runningChanged(true);
+  worker_->requestRun(schedule_);
+}
+
+void SimulationController::cancelRun() {
+  if (running_) worker_->cancel();
+}
+
+void SimulationController::exportVtu(const QString& path) {
+  worker_->requestExportVtu(path);
+}
+
+void SimulationController::removeCurve(int index) {
+  if (index < 0 || index >= static_cast<int>(curves_.size())) return;
+  curves_.erase(curves_.begin() + index);
+  auto shift = [index](int& i) { i = i == index ? -1 : i > index ? i - 1 : i; };
+  shift(liveCurve_);
+  shift(runCurve_);
+  emit curvesChanged();
+}
+
+void SimulationController::clearCurves() {
+  curves_.clear();
+  liveCurve_ = runCurve_ = -1;
+  emit curvesChanged();
+}
+
+void SimulationController::recordSite(const Eigen::Vector3d& site, bool isNew) {
+  // A new site (a pick, a load) is added; a preparation at the current one (new parameters, a
+  // session) only updates its point, which moves a little with the turgid state.
+  if (isNew || currentSite_ < 0) {
+    sites_.push_back(site);
+    currentSite_ = static_cast<int>(sites_.size()) - 1;
+  } else {
+    sites_[currentSite_] = site;
+  }
+}
+
+void SimulationController::onSnapshot(const Snapshot& s) {
+  latest_ = s;
+  ++snapshotCount_;
+  if (s.phase == Snapshot::Phase::Prepared && s.preparation != lastPreparation_) {
+    lastPreparation_ = s.preparation;
+    recordSite(s.site, s.newSite);
+    liveCurve_ = -1;  // the next drag starts a new curve
+    setRequestedDepth(0.0);
+  }
+  if (s.point && s.phase == Snapshot::Phase::Equilibrium) {
+    int& index = s.fromRun ? runCurve_ : liveCurve_;
+    if (!s.fromRun && index < 0) {
+      NamedCurve c;
+      c.site = s.site;
+      c.params = s.params;
+      c.live = true;
+      c.name = uniqueName(curveName(currentSite_ + 1, s.site, s.params, true));
+      c.points.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
+      curves_.push_back(std::move(c));
+      index = static_cast<int>(curves_.size()) - 1;
+    }
+    if (index >= 0) {
+      curves_[index].points.push_back(*s.point);
+      emit curvesChanged();
+    }
+  }
+  emit snapshotReady(s);
+}
+
+std::string SimulationController::uniqueName(const std::string& base) const {
+  // Curves are told apart by name (legend, CSV): a repeat gets " (2)", " (3)", …
+  auto taken = [this](const std::string& n) {
+    return std::any_of(curves_.begin(), curves_.end(), [&](const auto& c) { return c.name == n; });
+  };
+  std::string name = base;
+  for (int k = 2; taken(name); ++k) name = base + " (" + std::to_string(k) + ")";
+  return name;
+}
+
+void SimulationController::onRunStarted(int) {
+  NamedCurve c;
+  c.site = latest_.site;
+  c.params = latest_.params;
+  c.name = uniqueName(curveName(currentSite_ + 1, latest_.site, latest_.params, false));
+  curves_.push_back(std::move(c));
+  runCurve_ = static_cast<int>(curves_.size()) - 1;
+  emit curvesChanged();
+}
+
+void SimulationController::onRunFinished(bool completed) {
+  running_ = false;
+  runCurve_ = -1;
+  liveCurve_ = -1;       // a drag after a run starts its own curve
+  requestedDepth_ = -1;  // force the notification
+  setRequestedDepth(latest_.depth);
+  emit runningChanged(false);
+  emit statusMessage(completed ? tr("Curve finished") : tr("Curve stopped"));
+}
+
+SessionState SimulationController::session() const {
+  SessionState s;
+  s.tissuePath = tissuePath_.toStdString();
+  s.params = params_;
+  s.schedule = schedule_;
+  s.sites = sites_;
+  s.currentSite = currentSite_;
+  s.curves = curves_;
+  return s;
+}
+
+void SimulationController::applySession(const SessionState& session) {
+  cancelRun();
+  params_ = session.params;
+  schedule_ = session.schedule;
+  curves_ = session.curves;
+  liveCurve_ = runCurve_ = -1;
+  pendingSites_ = session.sites;
+  pendingCurrentSite_ = session.currentSite;
+  emit paramsChanged(params_);
+  emit scheduleChanged(schedule_);
+  emit curvesChanged();
+  SiteRequest site;
+  if (pendingCurrentSite_ >= 0) {
+    site.kind = SiteRequest::Kind::Point;
+    site.point = pendingSites_[pendingCurrentSite_];
+  }
+  worker_->requestLoad(QString::fromStdString(session.tissuePath), params_, site);
+}
+
+}  // namespace tp::gui

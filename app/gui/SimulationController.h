@@ -1,0 +1,106 @@
+#pragma once
+// The window's side of the simulation, on the GUI thread: starts the worker's thread, turns
+// user intentions (open, pick a site, drag the probe, change a parameter, run a curve) into
+// worker requests, and keeps what the window shows besides the 3D view: the parameters, the
+// sites picked and the curves, growing as equilibria arrive. No widgets: MainWindow wires it to
+// the panels, and tests drive it directly. Units: µm, MPa, µN.
+
+#include <QObject>
+#include <QString>
+#include <QThread>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "Curves.h"
+#include "Parameters.h"
+#include "SessionFile.h"
+#include "Snapshot.h"
+
+namespace tp::gui {
+
+class SimulationWorker;
+
+class SimulationController : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit SimulationController(QObject* parent = nullptr);
+  /// Stops a running curve, drops waiting requests and waits for the worker's thread.
+  ~SimulationController() override;
+
+  /// Loads a tissue (empty: the shipped default) and prepares it at its top.
+  void loadTissue(const QString& path);
+  /// New parameters: prepares again at the current site (only if they changed).
+  void setParams(const SimulationParams& params);
+  void setSchedule(const Schedule& schedule);
+  /// A click on the displayed triangle `triangle` of geometry `generation`.
+  void pickSite(int generation, int triangle, const Eigen::Vector3d& barycentric);
+  /// The probe's depth (µm, ≥ 0) the user asks for; solved as soon as the worker is free.
+  void requestDepth(double depth);
+  void runCurve();
+  void cancelRun();
+  void exportVtu(const QString& path);
+  void removeCurve(int index);
+  void clearCurves();
+
+  SessionState session() const;
+  /// Restores parameters, schedule, sites and curves, then loads the tissue and prepares the
+  /// session's current site.
+  void applySession(const SessionState& session);
+
+  const SimulationParams& params() const { return params_; }
+  const Schedule& schedule() const { return schedule_; }
+  const std::vector<NamedCurve>& curves() const { return curves_; }
+  const Snapshot& latest() const { return latest_; }
+  const QString& tissuePath() const { return tissuePath_; }
+  bool busy() const { return busy_; }
+  bool running() const { return running_; }
+  bool prepared() const { return latest_.probeVisible; }
+  double requestedDepth() const { return requestedDepth_; }
+  double meanCellSize() const;
+  /// Snapshots received since start (for measuring equilibria per second).
+  int snapshotCount() const { return snapshotCount_; }
+
+ signals:
+  void snapshotReady(const tp::gui::Snapshot& snapshot);
+  void curvesChanged();
+  void busyChanged(bool busy, const QString& what);
+  void statusMessage(const QString& text);
+  void solveFailed(const QString& message);
+  void loadFailed(const QString& message);
+  void tissueLoaded(const QString& path, const QString& summary);
+  void paramsChanged(const tp::gui::SimulationParams& params);
+  void scheduleChanged(const tp::gui::Schedule& schedule);
+  /// The depth control should show this (a preparation resets it, a run moves it).
+  void requestedDepthChanged(double depth);
+  void runningChanged(bool running);
+  void runProgress(int done, int total);
+  void exportFinished(const QString& path, bool ok, const QString& message);
+
+ private:
+  void onSnapshot(const Snapshot& s);
+  void onRunStarted(int total);
+  void onRunFinished(bool completed);
+  void recordSite(const Eigen::Vector3d& site, bool isNew);
+  void setRequestedDepth(double depth);
+  std::string uniqueName(const std::string& base) const;
+
+  QThread thread_;
+  SimulationWorker* worker_ = nullptr;  // lives in thread_
+
+  SimulationParams params_;
+  Schedule schedule_;
+  QString tissuePath_;
+  std::vector<Eigen::Vector3d> sites_, pendingSites_;  // pending: for the tissue being loaded
+  int currentSite_ = -1, pendingCurrentSite_ = -1;
+  std::vector<NamedCurve> curves_;
+  int liveCurve_ = -1, runCurve_ = -1;
+  int lastPreparation_ = -1;
+  Snapshot latest_;
+  bool busy_ = false, running_ = false;
+  double requestedDepth_ = 0;
+  int snapshotCount_ = 0;
+};
+
+}  // namespace tp::gui

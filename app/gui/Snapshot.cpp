@@ -1,0 +1,112 @@
+#include "Snapshot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace tp::gui {
+
+std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc) {
+  // Count each undirected edge within its wall; an edge used once is on the wall's boundary.
+  std::vector<std::vector<int>> wallTriangles(cc.walls.size());
+  for (int t = 0; t < cc.triangleCount(); ++t) wallTriangles[cc.triangleWall[t]].push_back(t);
+  std::vector<std::pair<int, int>> boundary;
+  std::vector<std::pair<int, int>> edges;
+  for (const auto& tris : wallTriangles) {
+    edges.clear();
+    for (int t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const int a = cc.triangles[t][k], b = cc.triangles[t][(k + 1) % 3];
+        edges.emplace_back(std::min(a, b), std::max(a, b));
+      }
+    std::sort(edges.begin(), edges.end());
+    for (size_t i = 0; i < edges.size();) {
+      size_t j = i;
+      while (j < edges.size() && edges[j] == edges[i]) ++j;
+      if (j - i == 1) boundary.push_back(edges[i]);
+      i = j;
+    }
+  }
+  // A junction edge bounds several walls: draw it once.
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  std::vector<std::uint32_t> out;
+  out.reserve(2 * boundary.size());
+  for (const auto& [a, b] : boundary) {
+    out.push_back(static_cast<std::uint32_t>(a));
+    out.push_back(static_cast<std::uint32_t>(b));
+  }
+  return out;
+}
+
+double meanCellSize(const CellComplex& cc) {
+  if (cc.cellCount() == 0) return 0;
+  double volume = 0;
+  for (double v : cellVolumes(cc, cc.rest)) volume += v;
+  return volume > 0 ? std::cbrt(volume / cc.cellCount()) : 0.0;
+}
+
+std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, int generation,
+                                                         const std::string& path, double cellSize) {
+  auto g = std::make_shared<TissueGeometry>();
+  g->generation = generation;
+  g->path = path;
+  const int T = cc.triangleCount();
+  g->triangles.reserve(3 * T);
+  g->triangleCell.resize(T);
+  g->triangleNeighbor.resize(T);
+  g->outer.resize(T);
+  g->clampedTriangle.resize(T);
+  for (int t = 0; t < T; ++t) {
+    const auto& tri = cc.triangles[t];
+    for (int k = 0; k < 3; ++k) g->triangles.push_back(static_cast<std::uint32_t>(tri[k]));
+    const Wall& w = cc.walls[cc.triangleWall[t]];
+    g->triangleCell[t] = w.cell;
+    g->triangleNeighbor[t] = w.neighbor;
+    g->outer[t] = cc.isOuterTriangle(t) ? 1 : 0;
+    g->clampedTriangle[t] = cc.fixed[tri[0]] && cc.fixed[tri[1]] && cc.fixed[tri[2]];
+  }
+  g->clampedVertex = cc.fixed;
+  g->outlineEdges = wallOutlineEdges(cc);
+  g->cellLabels = cc.cellLabels;
+  g->meanCellSize = cellSize;
+  return g;
+}
+
+const char* fieldName(Field f) {
+  switch (f) {
+    case Field::VonMises:
+      return "von Mises stress";
+    case Field::PrincipalMax:
+      return "max principal stress";
+    case Field::EnergyDensity:
+      return "strain-energy density";
+    case Field::BendingEnergyDensity:
+      return "bending-energy density";
+    case Field::Displacement:
+      return "displacement from turgid";
+  }
+  return "";
+}
+
+const char* fieldUnit(Field f) {
+  return f == Field::Displacement ? "µm" : "MPa";
+}
+
+const char* fieldKey(Field f) {
+  switch (f) {
+    case Field::VonMises:
+      return "von_mises";
+    case Field::PrincipalMax:
+      return "principal_max";
+    case Field::EnergyDensity:
+      return "strain_energy_density";
+    case Field::BendingEnergyDensity:
+      return "bending_energy_density";
+    case Field::Displacement:
+      return "displacement";
+  }
+  return "";
+}
+
+}  // namespace tp::gui

@@ -1,0 +1,91 @@
+#pragma once
+// What the simulation worker hands to the window: an immutable picture of one state of the
+// tissue. The topology (TissueGeometry) changes only when a tissue is loaded or refined and is
+// shared read-only between snapshots; positions, per-triangle fields and the probe come with
+// every snapshot, which travels BY VALUE through queued signals. Units: µm, MPa, µN.
+
+#include <QMetaType>
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "Parameters.h"
+#include "experiment/Indentation.h"
+#include "mesh/CellComplex.h"
+
+namespace tp::gui {
+
+/// The drawable topology of one tissue. Vertex and triangle indices are those of the model.
+struct TissueGeometry {
+  int generation = 0;                         // new for every load or refinement
+  std::string path;                           // file the tissue came from
+  std::vector<std::uint32_t> triangles;       // 3T vertex indices
+  std::vector<int> triangleCell;              // T, dense cell the normal points out of (-1 none)
+  std::vector<int> triangleNeighbor;          // T, dense cell on the other side (-1 outside)
+  std::vector<std::uint8_t> outer;            // T, 1 = on the outer surface
+  std::vector<std::uint8_t> clampedTriangle;  // T, 1 = its three vertices are clamped
+  std::vector<std::uint8_t> clampedVertex;    // V, 1 = clamped
+  std::vector<std::uint32_t> outlineEdges;    // 2E vertex indices: boundaries of the walls
+  std::vector<int> cellLabels;                // C, user-facing label of each dense cell
+  double meanCellSize = 0;                    // L = cbrt(rest volume / cells), µm (unrefined)
+
+  int vertexCount() const { return static_cast<int>(clampedVertex.size()); }
+  int triangleCount() const { return static_cast<int>(triangleCell.size()); }
+  int cellCount() const { return static_cast<int>(cellLabels.size()); }
+};
+
+/// Edges used by exactly one triangle of their wall (the wall's boundary loops), each listed once
+/// even where several walls meet: the cell outlines to draw. 2E vertex indices.
+std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc);
+/// L = cbrt(total rest volume / cell count) (µm), 0 without cells.
+double meanCellSize(const CellComplex& cc);
+std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, int generation,
+                                                         const std::string& path, double cellSize);
+
+/// Per-triangle quantities a user can colour the walls by.
+enum class Field { VonMises, PrincipalMax, EnergyDensity, BendingEnergyDensity, Displacement };
+constexpr int kFieldCount = 5;
+const char* fieldName(Field f);  // "von Mises stress"
+const char* fieldUnit(Field f);  // "MPa" or "µm"
+const char* fieldKey(Field f);   // "von_mises" (sessions, settings)
+
+struct Snapshot {
+  enum class Phase {
+    Rest,         // a tissue just loaded, not yet under pressure
+    Prepared,     // turgid state, probe touching the surface at depth 0
+    Equilibrium,  // an equilibrium with the probe pressed in
+  };
+  std::shared_ptr<const TissueGeometry> geometry;
+  std::vector<float> positions;                        // 3V, µm
+  std::array<std::vector<float>, kFieldCount> fields;  // T values each, units of fieldUnit
+  std::vector<double> cellVolumes;                     // C, current volumes, µm³
+  Phase phase = Phase::Rest;
+
+  // The probe (valid when probeVisible).
+  bool probeVisible = false;
+  Eigen::Vector3d site = Eigen::Vector3d::Zero();           // on the turgid surface, µm
+  Eigen::Vector3d axis = -Eigen::Vector3d::UnitZ();         // unit, into the tissue
+  Eigen::Vector3d contactCenter = Eigen::Vector3d::Zero();  // probe centre at first contact, µm
+  double probeRadius = 1;                                   // µm
+  double depth = 0;                                         // µm, travel from first contact
+  double force = 0;                                         // µN
+
+  SimulationParams params;          // what the state was computed with
+  int preparation = 0;              // counts preparations: points of one belong together
+  bool newSite = false;             // this preparation chose a new site (a pick, a load)
+  std::optional<CurvePoint> point;  // the equilibrium this snapshot shows, if it is one
+  bool fromRun = false;             // the point belongs to a scheduled run (not a drag)
+  std::string status;               // one line for the status bar
+
+  bool empty() const { return !geometry; }
+  Eigen::Vector3d probeCenter() const { return contactCenter + depth * axis; }
+};
+
+}  // namespace tp::gui
+
+Q_DECLARE_METATYPE(tp::gui::Snapshot)

@@ -1,0 +1,112 @@
+#include "SnapshotBuffers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace tp::gui {
+
+void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map) {
+  triangles_.clear();
+  lines_.clear();
+  points_.clear();
+  bounds_.setEmpty();
+  if (s.empty()) return;
+  const TissueGeometry& g = *s.geometry;
+  const auto& x = s.positions;
+  auto vertex = [&](std::uint32_t v) {
+    return Eigen::Vector3f(x[3 * v], x[3 * v + 1], x[3 * v + 2]);
+  };
+  for (int v = 0; v < g.vertexCount(); ++v) bounds_.extend(vertex(v).cast<double>());
+
+  const auto& values = s.fields[static_cast<int>(field)];
+  const int T = g.triangleCount();
+  triangles_.resize(static_cast<size_t>(T) * 3 * kTriangleStride);
+  float* out = triangles_.data();
+  for (int t = 0; t < T; ++t) {
+    const Eigen::Vector3f a = vertex(g.triangles[3 * t]), b = vertex(g.triangles[3 * t + 1]),
+                          c = vertex(g.triangles[3 * t + 2]);
+    Eigen::Vector3f n = (b - a).cross(c - a);
+    const float len = n.norm();
+    n = len > 0 ? Eigen::Vector3f(n / len) : Eigen::Vector3f::UnitZ();
+    const double value =
+        t < static_cast<int>(values.size()) ? values[t] : std::numeric_limits<double>::quiet_NaN();
+    const Eigen::Vector3f rgb = map.color(value);
+    const float flags = float((g.clampedTriangle[t] ? kClamped : 0) | (g.outer[t] ? kOuter : 0));
+    for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+      out[0] = p->x(), out[1] = p->y(), out[2] = p->z();
+      out[3] = n.x(), out[4] = n.y(), out[5] = n.z();
+      out[6] = rgb.x(), out[7] = rgb.y(), out[8] = rgb.z();
+      out[9] = float(g.triangleCell[t]), out[10] = float(g.triangleNeighbor[t]);
+      out[11] = flags;
+      out += kTriangleStride;
+    }
+  }
+
+  lines_.reserve(g.outlineEdges.size() * 3);
+  for (std::uint32_t v : g.outlineEdges) {
+    const Eigen::Vector3f p = vertex(v);
+    lines_.insert(lines_.end(), {p.x(), p.y(), p.z()});
+  }
+  for (int v = 0; v < g.vertexCount(); ++v)
+    if (g.clampedVertex[v]) {
+      const Eigen::Vector3f p = vertex(v);
+      points_.insert(points_.end(), {p.x(), p.y(), p.z()});
+    }
+}
+
+std::vector<float> unitSphereMesh(int subdivisions) {
+  // Icosahedron: the 12 vertices (0, ±1, ±φ) cyclically permuted, then 4:1 splits projected out.
+  const float p = 0.5f * (1.0f + std::sqrt(5.0f));
+  std::vector<Eigen::Vector3f> v = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0},
+                                    {0, -1, p}, {0, 1, p}, {0, -1, -p}, {0, 1, -p},
+                                    {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+  for (auto& q : v) q.normalize();
+  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < subdivisions; ++level) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return mid[key] = static_cast<int>(v.size()) - 1;
+    };
+    std::vector<Eigen::Vector3i> next;
+    next.reserve(4 * f.size());
+    for (const auto& t : f) {
+      const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      next.insert(next.end(), {{t[0], ab, ca}, {t[1], bc, ab}, {t[2], ca, bc}, {ab, bc, ca}});
+    }
+    f.swap(next);
+  }
+  std::vector<float> out;
+  out.reserve(f.size() * 18);
+  for (auto t : f) {
+    // Wind every face counter-clockwise seen from outside (for back-face culling).
+    if ((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).dot(v[t[0]]) < 0) std::swap(t[1], t[2]);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3f& q = v[t[k]];
+      out.insert(out.end(), {q.x(), q.y(), q.z(), q.x(), q.y(), q.z()});
+    }
+  }
+  return out;
+}
+
+std::pair<double, double> autoRange(const Snapshot& s, Field field, bool diverging) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (float v : s.fields[static_cast<int>(field)])
+    if (std::isfinite(v)) lo = std::min(lo, double(v)), hi = std::max(hi, double(v));
+  if (!(lo <= hi)) return {0.0, 1.0};
+  if (diverging && lo < 0 && hi > 0) {
+    const double m = std::max(-lo, hi);
+    return {-m, m};
+  }
+  return {lo, hi};
+}
+
+}  // namespace tp::gui

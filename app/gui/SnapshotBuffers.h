@@ -1,0 +1,51 @@
+#pragma once
+// Turns a Snapshot into the interleaved vertex arrays the GPU draws: one flat-shaded vertex
+// triple per triangle (its colour from the chosen field through the colour map), the wall
+// outlines as line segments and the clamped vertices as points. Plain arrays of floats, no GL
+// context needed (GlRenderer uploads them), so the conversion is unit-tested. Units: µm.
+
+#include <Eigen/Geometry>
+#include <utility>
+#include <vector>
+
+#include "ColorMap.h"
+#include "Snapshot.h"
+
+namespace tp::gui {
+
+class SnapshotBuffers {
+ public:
+  // One triangle vertex: position (3), flat normal (3, not oriented), colour (3, RGB in [0, 1]),
+  // the wall's two dense cells (2, −1 = none) and flags (1): kClamped | kOuter.
+  static constexpr int kTriangleStride = 12;
+  static constexpr int kPositionOffset = 0, kNormalOffset = 3, kColorOffset = 6, kCellsOffset = 9,
+                       kFlagsOffset = 11;
+  static constexpr int kClamped = 1, kOuter = 2;
+  static constexpr int kLineStride = 3;  // lines and points: position only
+
+  /// Rebuilds every array from the snapshot (empty snapshot: empty arrays).
+  void build(const Snapshot& snapshot, Field field, const ColorMap& map);
+
+  const std::vector<float>& triangleVertices() const { return triangles_; }
+  int triangleVertexCount() const { return static_cast<int>(triangles_.size()) / kTriangleStride; }
+  const std::vector<float>& lineVertices() const { return lines_; }
+  int lineVertexCount() const { return static_cast<int>(lines_.size()) / kLineStride; }
+  const std::vector<float>& clampedPoints() const { return points_; }
+  int clampedPointCount() const { return static_cast<int>(points_.size()) / kLineStride; }
+  /// Bounding box of the positions (µm).
+  const Eigen::AlignedBox3d& bounds() const { return bounds_; }
+
+ private:
+  std::vector<float> triangles_, lines_, points_;
+  Eigen::AlignedBox3d bounds_;
+};
+
+/// A unit sphere: an icosahedron subdivided `subdivisions` times, as triangles with 6 floats per
+/// vertex (position, equal to the outward normal).
+std::vector<float> unitSphereMesh(int subdivisions);
+
+/// The automatic colour range of a field: [min, max] of its finite values; for a diverging map
+/// and values of both signs, symmetric about zero so that zero sits at the neutral colour.
+std::pair<double, double> autoRange(const Snapshot& snapshot, Field field, bool diverging);
+
+}  // namespace tp::gui

@@ -1,0 +1,494 @@
+#include "TissueView.h"
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
+#include <QPainter>
+#include <QWheelEvent>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ColorBar.h"
+#include "Resources.h"
+
+namespace tp::gui {
+
+namespace {
+
+Eigen::AlignedBox3d boundsOf(const std::vector<float>& x) {
+  Eigen::AlignedBox3d b;
+  for (size_t i = 0; i + 2 < x.size(); i += 3) b.extend(Eigen::Vector3d(x[i], x[i + 1], x[i + 2]));
+  return b;
+}
+
+}  // namespace
+
+TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
+  setObjectName("tissueView");
+  setFocusPolicy(Qt::StrongFocus);
+  setMouseTracking(true);  // hover highlight without a button pressed
+  setMinimumSize(320, 240);
+  setFormat(surfaceFormat(4));  // 4× multisampling smooths the outlines
+  depthTimer_.setSingleShot(true);
+  depthTimer_.setInterval(40);
+  connect(&depthTimer_, &QTimer::timeout, this, [this] {
+    if (pendingDepth_ >= 0) emit depthRequested(pendingDepth_);
+    pendingDepth_ = -1;
+  });
+  setToolTip(
+      tr("Left drag: turn · Shift+left or middle drag: pan · Wheel: zoom\n"
+         "Click on the surface: indentation site · Right or Ctrl+left drag: probe depth\n"
+         "Keys: arrows turn, +/- zoom, F fit, 1/3/7 front/right/top, R reset, "
+         "Z zoom to the probe"));
+}
+
+TissueView::~TissueView() {
+  releaseGL();
+}
+
+void TissueView::releaseGL() {
+  // hellogl2's cleanup: the GL objects belong to this widget's context, which must be current.
+  if (!renderer_.initialized() || !context()) return;
+  makeCurrent();
+  renderer_.release();
+  doneCurrent();
+}
+
+void TissueView::initializeGL() {
+  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &TissueView::releaseGL,
+          Qt::UniqueConnection);
+  glError_.clear();
+  if (!renderer_.initialize(&glError_)) qWarning("TissueProbe: OpenGL: %s", qPrintable(glError_));
+  buffersDirty_ = true;
+}
+
+void TissueView::resizeGL(int w, int h) {
+  camera_.setViewport(w, h);
+}
+
+double TissueView::sectionPosition() const {
+  const Eigen::AlignedBox3d b = boundsOf(snapshot_.positions);
+  return b.min()[sectionAxis_] + sectionFraction_ * b.diagonal()[sectionAxis_];
+}
+
+std::optional<ClipPlane> TissueView::clipPlane() const {
+  if (!sectionOn_ || snapshot_.empty()) return std::nullopt;
+  const double c = sectionPosition();
+  const Eigen::Vector3d e = Eigen::Vector3d::Unit(sectionAxis_);
+  ClipPlane p;  // keeps n·x + d ≥ 0
+  p.normal = sectionKeepPositive_ ? e : Eigen::Vector3d(-e);
+  p.offset = sectionKeepPositive_ ? -c : c;
+  return p;
+}
+
+void TissueView::setSnapshot(const Snapshot& s) {
+  const bool newTissue = !s.empty() && (snapshot_.empty() || s.phase == Snapshot::Phase::Rest ||
+                                        QString::fromStdString(s.geometry->path) != lastPath_);
+  snapshot_ = s;
+  buffersDirty_ = true;
+  pickerDirty_ = true;
+  if (!s.empty()) {
+    lastPath_ = QString::fromStdString(s.geometry->path);
+    Eigen::AlignedBox3d b = boundsOf(s.positions);
+    if (s.probeVisible) {
+      const Eigen::Vector3d c = s.probeCenter();
+      b.extend(c + Eigen::Vector3d::Constant(s.probeRadius));
+      b.extend(c - Eigen::Vector3d::Constant(s.probeRadius));
+    }
+    camera_.setSceneBounds(b);
+    if (newTissue) camera_.reset();
+  }
+  updateRange();
+  update();
+}
+
+void TissueView::updateRange() {
+  const double oldLo = map_.lo(), oldHi = map_.hi();
+  if (autoRange_ && !snapshot_.empty()) {
+    const auto [lo, hi] = tp::gui::autoRange(snapshot_, field_, map_.diverging());
+    map_.setRange(lo, hi);
+  } else if (!autoRange_) {
+    map_.setRange(lo_, hi_);
+  }
+  if (map_.lo() != oldLo || map_.hi() != oldHi) {
+    buffersDirty_ = true;
+    emit rangeChanged(map_.lo(), map_.hi());
+  }
+}
+
+void TissueView::setField(Field field) {
+  if (field == field_) return;
+  field_ = field;
+  buffersDirty_ = true;
+  updateRange();
+  update();
+}
+
+void TissueView::setColorMapKind(ColorMap::Kind kind) {
+  if (kind == map_.kind()) return;
+  map_.setKind(kind);
+  buffersDirty_ = true;
+  updateRange();
+  update();
+}
+
+void TissueView::setAutoRange(bool on) {
+  if (on == autoRange_) return;
+  autoRange_ = on;
+  if (!on) lo_ = map_.lo(), hi_ = map_.hi();  // start from what is shown
+  updateRange();
+  update();
+}
+
+void TissueView::setRange(double lo, double hi) {
+  if (lo == lo_ && hi == hi_) return;
+  lo_ = lo;
+  hi_ = hi;
+  if (autoRange_) return;
+  updateRange();
+  update();
+}
+
+void TissueView::setSection(bool enabled, int axis, double fraction, bool flip) {
+  axis = std::clamp(axis, 0, 2);
+  fraction = std::clamp(fraction, 0.0, 1.0);
+  if (enabled == sectionOn_ && axis == sectionAxis_ && fraction == sectionFraction_ &&
+      flip == sectionFlip_)
+    return;
+  sectionOn_ = enabled;
+  sectionAxis_ = axis;
+  sectionFraction_ = fraction;
+  sectionFlip_ = flip;
+  // Keep the half away from the viewer, so that the cut faces the camera (flip: the other half).
+  // Decided here, not per frame, so that turning the tissue does not swap the halves.
+  if (!snapshot_.empty()) sectionKeepPositive_ = (camera_.eye()[axis] < sectionPosition()) != flip;
+  update();
+}
+
+void TissueView::setPlaceholder(const QString& text) {
+  if (text == placeholder_) return;
+  placeholder_ = text;
+  update();
+}
+
+void TissueView::setOutlinesVisible(bool on) {
+  if (on == outlines_) return;
+  outlines_ = on;
+  update();
+}
+
+void TissueView::setRotationMode(Camera::RotationMode mode) {
+  camera_.setRotationMode(mode);
+}
+
+void TissueView::fitToView() {
+  camera_.fitToScene();
+  update();
+}
+
+void TissueView::setStandardView(Camera::StandardView view) {
+  camera_.setStandardView(view);
+  update();
+}
+
+void TissueView::zoomToProbe() {
+  if (!snapshot_.probeVisible) return;
+  // The probe's cell and its neighbours: a box of about three cells around the probe.
+  const double cell = snapshot_.geometry->meanCellSize;
+  const double r = std::max(4.0 * snapshot_.probeRadius, 1.5 * (cell > 0 ? cell : 1.0));
+  const Eigen::Vector3d c = snapshot_.probeCenter();
+  camera_.fit(
+      Eigen::AlignedBox3d(c - Eigen::Vector3d::Constant(r), c + Eigen::Vector3d::Constant(r)));
+  update();
+}
+
+void TissueView::resetView() {
+  camera_.reset();
+  update();
+}
+
+void TissueView::ensurePicker() const {
+  if (snapshot_.empty()) return;
+  if (pickerGeneration_ != snapshot_.geometry->generation) {
+    picker_.build(snapshot_.geometry->triangles, snapshot_.positions);
+    pickerGeneration_ = snapshot_.geometry->generation;
+  } else if (pickerDirty_) {
+    picker_.update(snapshot_.positions);
+  }
+  pickerDirty_ = false;
+}
+
+std::optional<Hit> TissueView::pickAt(const QPoint& pixel) const {
+  if (snapshot_.empty()) return std::nullopt;
+  ensurePicker();
+  Camera cam = camera_;
+  cam.setViewport(width(), height());
+  return picker_.pick(cam.rayAt(pixel.x() + 0.5, pixel.y() + 0.5), {}, clipPlane());
+}
+
+void TissueView::updateHover(const QPoint& pixel) {
+  const std::optional<Hit> hit = pickAt(pixel);
+  const int cell = hit ? cellUnderCursor(*snapshot_.geometry, *hit) : -1;
+  if (cell == highlight_) return;
+  highlight_ = cell;
+  QString text;
+  if (cell >= 0) {
+    const auto& g = *snapshot_.geometry;
+    const double volume =
+        cell < static_cast<int>(snapshot_.cellVolumes.size()) ? snapshot_.cellVolumes[cell] : 0;
+    const auto& values = snapshot_.fields[int(field_)];
+    text = tr("Cell %1: volume %2 µm³").arg(g.cellLabels[cell]).arg(volume, 0, 'f', 1);
+    if (hit->triangle < static_cast<int>(values.size()))
+      text += tr(" · wall %1 %2 %3")
+                  .arg(QString::fromUtf8(fieldName(field_)))
+                  .arg(values[hit->triangle], 0, 'g', 4)
+                  .arg(QString::fromUtf8(fieldUnit(field_)));
+  }
+  emit hoverChanged(text);
+  update();
+}
+
+void TissueView::leaveEvent(QEvent* e) {
+  if (highlight_ >= 0) {
+    highlight_ = -1;
+    emit hoverChanged(QString());
+    update();
+  }
+  QOpenGLWidget::leaveEvent(e);
+}
+
+void TissueView::mousePressEvent(QMouseEvent* e) {
+  pressPos_ = lastPos_ = e->position().toPoint();
+  moved_ = false;
+  const bool left = e->button() == Qt::LeftButton;
+  const auto mods = e->modifiers();
+  if (e->button() == Qt::RightButton || (left && (mods & Qt::ControlModifier))) {
+    drag_ = snapshot_.probeVisible ? Drag::Depth : Drag::None;
+    dragStartDepth_ = requestedDepth_;
+  } else if (e->button() == Qt::MiddleButton || (left && (mods & Qt::ShiftModifier))) {
+    drag_ = Drag::Pan;
+  } else if (left) {
+    drag_ = Drag::Rotate;
+  } else {
+    drag_ = Drag::None;
+  }
+  e->accept();
+}
+
+void TissueView::mouseMoveEvent(QMouseEvent* e) {
+  const QPoint pos = e->position().toPoint();
+  if (drag_ == Drag::None) {
+    updateHover(pos);
+    return;
+  }
+  if ((pos - pressPos_).manhattanLength() > 3) moved_ = true;
+  switch (drag_) {
+    case Drag::Rotate:
+      if (moved_)
+        camera_.rotate({double(lastPos_.x()), double(lastPos_.y())},
+                       {double(pos.x()), double(pos.y())});
+      break;
+    case Drag::Pan:
+      camera_.pan({double(lastPos_.x()), double(lastPos_.y())}, {double(pos.x()), double(pos.y())});
+      break;
+    case Drag::Depth: {
+      // Down presses in: a hundred pixels per probe radius, whatever the zoom. Nothing to redraw
+      // until the worker sends the equilibrium.
+      const double umPerPixel = std::max(snapshot_.probeRadius, 0.1) / 100.0;
+      pendingDepth_ = std::max(0.0, dragStartDepth_ + (pos.y() - pressPos_.y()) * umPerPixel);
+      if (!depthTimer_.isActive()) depthTimer_.start();
+      lastPos_ = pos;
+      return;
+    }
+    case Drag::None:
+      break;
+  }
+  lastPos_ = pos;
+  update();
+}
+
+void TissueView::mouseReleaseEvent(QMouseEvent* e) {
+  const QPoint pos = e->position().toPoint();
+  if (drag_ == Drag::Rotate && !moved_ && e->button() == Qt::LeftButton) {
+    // A click, not a drag: choose the indentation site.
+    const std::optional<Hit> hit = pickAt(pos);
+    const TissueGeometry* g = snapshot_.empty() ? nullptr : snapshot_.geometry.get();
+    if (!hit || !g) {
+      emit pickRejected(tr("No tissue under the cursor"));
+    } else if (!g->outer[hit->triangle]) {
+      emit pickRejected(tr("Pick a site on the outer surface (this is an inner wall)"));
+    } else if (g->clampedTriangle[hit->triangle]) {
+      emit pickRejected(tr("Pick a site on the free surface (this part is clamped)"));
+    } else {
+      emit sitePicked(g->generation, hit->triangle, hit->barycentric);
+    }
+  }
+  if (drag_ == Drag::Depth && pendingDepth_ >= 0) {  // the drag's last depth, now
+    depthTimer_.stop();
+    emit depthRequested(pendingDepth_);
+    pendingDepth_ = -1;
+  }
+  drag_ = Drag::None;
+  e->accept();
+}
+
+void TissueView::wheelEvent(QWheelEvent* e) {
+  // One notch (120) zooms by 20 %, towards the point under the cursor.
+  camera_.zoomAt({e->position().x(), e->position().y()},
+                 std::pow(1.2, e->angleDelta().y() / 120.0));
+  update();
+  e->accept();
+}
+
+void TissueView::keyPressEvent(QKeyEvent* e) {
+  switch (e->key()) {
+    case Qt::Key_Left:
+      camera_.rotateBy(-5, 0);
+      break;
+    case Qt::Key_Right:
+      camera_.rotateBy(5, 0);
+      break;
+    case Qt::Key_Up:
+      camera_.rotateBy(0, -5);
+      break;
+    case Qt::Key_Down:
+      camera_.rotateBy(0, 5);
+      break;
+    case Qt::Key_Plus:
+    case Qt::Key_Equal:
+      camera_.zoom(1.2);
+      break;
+    case Qt::Key_Minus:
+      camera_.zoom(1 / 1.2);
+      break;
+    case Qt::Key_F:
+      camera_.fitToScene();
+      break;
+    case Qt::Key_1:
+      camera_.setStandardView(Camera::StandardView::Front);
+      break;
+    case Qt::Key_3:
+      camera_.setStandardView(Camera::StandardView::Right);
+      break;
+    case Qt::Key_7:
+      camera_.setStandardView(Camera::StandardView::Top);
+      break;
+    case Qt::Key_R:
+      camera_.reset();
+      break;
+    case Qt::Key_Z:
+      zoomToProbe();
+      return;
+    default:
+      QOpenGLWidget::keyPressEvent(e);
+      return;
+  }
+  update();
+}
+
+GlRenderer::Frame TissueView::frame(const Camera& cam) const {
+  GlRenderer::Frame f;
+  f.viewProjection = cam.viewProjection().cast<float>();
+  f.eye = cam.eye().cast<float>();
+  f.clip = clipPlane();
+  f.highlightCell = highlight_;
+  f.outlines = outlines_;
+  f.probe = snapshot_.probeVisible;
+  f.probeCenter = snapshot_.probeCenter().cast<float>();
+  f.probeRadius = float(snapshot_.probeRadius);
+  f.probeAxis = snapshot_.axis.cast<float>();
+  // The probe's stem (the cantilever's direction) keeps the site visible from afar.
+  const double extent =
+      snapshot_.empty() ? 1.0 : 0.5 * boundsOf(snapshot_.positions).diagonal().norm();
+  f.stemLength = float(std::max(6.0 * snapshot_.probeRadius, 0.15 * extent));
+  return f;
+}
+
+void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) const {
+  const QRectF area(QPointF(0, 0), QSizeF(size));
+  if (!glError_.isEmpty()) {
+    p.setPen(Qt::red);
+    p.drawText(area.adjusted(10, 10, -10, -10), Qt::AlignLeft | Qt::TextWordWrap,
+               tr("OpenGL failed: %1").arg(glError_));
+    return;
+  }
+  if (snapshot_.empty()) {
+    p.setPen(Qt::darkGray);
+    p.drawText(area, Qt::AlignCenter | Qt::TextWordWrap,
+               placeholder_.isEmpty() ? tr("Loading the tissue…") : placeholder_);
+    return;
+  }
+  const QString title = QStringLiteral("%1 (%2)").arg(QString::fromUtf8(fieldName(field_)),
+                                                      QString::fromUtf8(fieldUnit(field_)));
+  paintColorBar(p, area, map_, title, scale);
+  if (snapshot_.probeVisible) {
+    QFont font = p.font();
+    font.setPointSizeF(10.0 * scale);
+    p.setFont(font);
+    p.setPen(QColor(20, 20, 20));
+    p.drawText(area.adjusted(10 * scale, 8 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop,
+               tr("depth %1 µm   force %2 µN")
+                   .arg(snapshot_.depth, 0, 'f', 3)
+                   .arg(snapshot_.force, 0, 'g', 4));
+  }
+}
+
+void TissueView::paintGL() {
+  camera_.setViewport(width(), height());
+  if (buffersDirty_ && renderer_.initialized()) {
+    buffers_.build(snapshot_, field_, map_);
+    renderer_.upload(buffers_);
+    buffersDirty_ = false;
+  }
+  const double dpr = devicePixelRatioF();
+  renderer_.render(frame(camera_), QSize(int(width() * dpr), int(height() * dpr)));
+  ++frames_;
+  QPainter painter(this);
+  paintOverlay(painter, size(), 1.0);
+  painter.end();
+  emit frameRendered();
+}
+
+QImage TissueView::renderImage(const QSize& size) {
+  QImage image;
+  if (!size.isValid() || size.isEmpty()) return image;
+  makeCurrent();
+  if (renderer_.initialized()) {
+    if (buffersDirty_) {
+      buffers_.build(snapshot_, field_, map_);
+      renderer_.upload(buffers_);
+      buffersDirty_ = false;
+    }
+    QOpenGLFramebufferObjectFormat format;
+    format.setAttachment(QOpenGLFramebufferObject::Depth);
+    format.setSamples(4);
+    QOpenGLFramebufferObject fbo(size, format);
+    if (fbo.isValid() && fbo.bind()) {
+      Camera cam = camera_;
+      cam.setViewport(size.width(), size.height());
+      renderer_.render(frame(cam), size);
+      image = fbo.toImage().convertToFormat(QImage::Format_RGB32);
+      fbo.release();
+    }
+  }
+  doneCurrent();
+  if (image.isNull()) return image;
+  QPainter painter(&image);
+  paintOverlay(painter, size, double(size.height()) / std::max(1, height()));
+  return image;
+}
+
+QImage grabWindowWithView(QWidget* window, TissueView* view) {
+  QImage image = window->grab().toImage();
+  if (view && view->isVisible() && window->isAncestorOf(view)) {
+    QPainter p(&image);  // in logical coordinates: the image carries the pixel ratio
+    const QImage fb = view->grabFramebuffer();
+    p.drawImage(QRectF(view->mapTo(window, QPoint(0, 0)), QSizeF(view->size())), fb,
+                QRectF(QPointF(0, 0), QSizeF(fb.size())));
+  }
+  return image;
+}
+
+}  // namespace tp::gui

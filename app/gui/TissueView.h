@@ -1,0 +1,135 @@
+#pragma once
+// The 3D view: draws the newest Snapshot (walls coloured by a field, outlines, clamped base,
+// probe, colour bar) and turns mouse and keys into camera moves, hover, site picks and probe
+// drags. It never computes mechanics: picks and drags leave as signals.
+//   left drag: orbit · shift+left or middle drag: pan · wheel: zoom · left click: indentation
+//   site · right drag or ctrl+left drag (vertical): probe depth · arrows: orbit · +/-: zoom ·
+//   F fit · 1/3/7 front/right/top · R reset · Z zoom to the probe.
+
+#include <QImage>
+#include <QOpenGLWidget>
+#include <QPoint>
+#include <QTimer>
+
+#include <optional>
+
+#include "Camera.h"
+#include "ColorMap.h"
+#include "GlRenderer.h"
+#include "Picking.h"
+#include "Snapshot.h"
+#include "SnapshotBuffers.h"
+
+namespace tp::gui {
+
+class TissueView : public QOpenGLWidget {
+  Q_OBJECT
+
+ public:
+  explicit TissueView(QWidget* parent = nullptr);
+  ~TissueView() override;
+
+  Camera& camera() { return camera_; }
+  const Camera& camera() const { return camera_; }
+  const Snapshot& snapshot() const { return snapshot_; }
+  const ColorMap& colorMap() const { return map_; }
+  Field field() const { return field_; }
+  bool autoRange() const { return autoRange_; }
+  std::optional<ClipPlane> clipPlane() const;
+  /// paintGL calls since creation (frames per second = difference / time).
+  int frameCount() const { return frames_; }
+  int highlightedCell() const { return highlight_; }
+
+  /// The hit under a pixel (widget coordinates), honouring the section plane.
+  std::optional<Hit> pickAt(const QPoint& pixel) const;
+  /// Renders the view offscreen at `size` pixels (colour bar included).
+  QImage renderImage(const QSize& size);
+
+ public slots:
+  void setSnapshot(const tp::gui::Snapshot& snapshot);
+  void setField(tp::gui::Field field);
+  void setColorMapKind(tp::gui::ColorMap::Kind kind);
+  void setAutoRange(bool on);
+  void setRange(double lo, double hi);
+  /// Section plane normal to axis 0/1/2 (x/y/z) at a fraction of the tissue's extent; `flip`
+  /// keeps the other side.
+  void setSection(bool enabled, int axis, double fraction, bool flip);
+  void setOutlinesVisible(bool on);
+  void setRotationMode(tp::gui::Camera::RotationMode mode);
+  /// What the view says while it has no tissue to draw.
+  void setPlaceholder(const QString& text);
+  /// The depth a probe drag starts from (µm).
+  void setRequestedDepth(double depth) { requestedDepth_ = depth; }
+  void fitToView();
+  void setStandardView(tp::gui::Camera::StandardView view);
+  void resetView();
+  /// Frames the probe's neighbourhood (a few cells around it).
+  void zoomToProbe();
+
+ signals:
+  void sitePicked(int generation, int triangle, const Eigen::Vector3d& barycentric);
+  void pickRejected(const QString& why);
+  void hoverChanged(const QString& text);
+  void depthRequested(double depth);
+  /// The colour range in use (auto ranges follow the data).
+  void rangeChanged(double lo, double hi);
+  void frameRendered();
+
+ protected:
+  void initializeGL() override;
+  void resizeGL(int w, int h) override;
+  void paintGL() override;
+  void mousePressEvent(QMouseEvent* e) override;
+  void mouseMoveEvent(QMouseEvent* e) override;
+  void mouseReleaseEvent(QMouseEvent* e) override;
+  void wheelEvent(QWheelEvent* e) override;
+  void keyPressEvent(QKeyEvent* e) override;
+  void leaveEvent(QEvent* e) override;
+
+ private:
+  enum class Drag { None, Rotate, Pan, Depth };
+  void releaseGL();
+  void updateRange();
+  void updateHover(const QPoint& pixel);
+  GlRenderer::Frame frame(const Camera& camera) const;
+  void paintOverlay(QPainter& painter, const QSize& size, double scale) const;
+  void ensurePicker() const;
+  double sectionPosition() const;
+
+  Camera camera_;
+  Snapshot snapshot_;
+  ColorMap map_;
+  Field field_ = Field::VonMises;
+  bool autoRange_ = true;
+  double lo_ = 0, hi_ = 1;  // manual range
+  bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
+  int sectionAxis_ = 0;
+  double sectionFraction_ = 0.5;
+
+  SnapshotBuffers buffers_;
+  bool buffersDirty_ = true;
+  GlRenderer renderer_;
+  QString glError_;
+  mutable Picker picker_;
+  mutable bool pickerDirty_ = true;
+  mutable int pickerGeneration_ = -1;
+  int highlight_ = -1;
+
+  Drag drag_ = Drag::None;
+  QPoint pressPos_, lastPos_;
+  bool moved_ = false;
+  double requestedDepth_ = 0, dragStartDepth_ = 0;
+  // Depth requests during a drag leave at most every 40 ms: the solver needs longer than that
+  // per equilibrium anyway, and fewer updates of the depth controls leave it more CPU.
+  QTimer depthTimer_;
+  double pendingDepth_ = -1;
+  int frames_ = 0;
+  QString lastPath_;
+  QString placeholder_;
+};
+
+/// A picture of `window` with the 3D view drawn in: QWidget::grab leaves out what the view
+/// paints with QPainter over its OpenGL content (the colour bar, the probe read-out).
+QImage grabWindowWithView(QWidget* window, TissueView* view);
+
+}  // namespace tp::gui

@@ -1,0 +1,14 @@
+#version 330 core
+// Wall outlines (GL_LINES) and clamped vertices (GL_POINTS): positions in µm.
+layout(location = 0) in vec3 position;
+
+uniform mat4 viewProjection;
+uniform float pointSize;  // pixels
+
+out vec3 worldPosition;
+
+void main() {
+  worldPosition = position;
+  gl_PointSize = pointSize;
+  gl_Position = viewProjection * vec4(position, 1.0);
+}

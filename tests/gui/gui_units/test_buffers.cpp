@@ -1,0 +1,133 @@
+// SnapshotBuffers: array sizes, per-triangle colours, normals, cells and flags, outlines and
+// clamped points; the probe's sphere; automatic colour ranges.
+#include <QTest>
+
+#include "SnapshotBuffers.h"
+#include "TestMain.h"
+#include "tissue/Shapes.h"
+
+using namespace tp::gui;
+
+namespace {
+
+Snapshot boxSnapshot(const tp::CellComplex& cc) {
+  Snapshot s;
+  s.geometry = makeTissueGeometry(cc, 1, "box", meanCellSize(cc));
+  for (Eigen::Index i = 0; i < cc.rest.size(); ++i) s.positions.push_back(float(cc.rest.data()[i]));
+  for (auto& f : s.fields) f.assign(cc.triangleCount(), 0.0f);
+  // Von Mises = the triangle's index, so colours can be predicted.
+  for (int t = 0; t < cc.triangleCount(); ++t) s.fields[int(Field::VonMises)][t] = float(t);
+  return s;
+}
+
+Eigen::Vector3f colourOf(const SnapshotBuffers& b, int vertex) {
+  const float* v = b.triangleVertices().data() + vertex * SnapshotBuffers::kTriangleStride;
+  return {v[SnapshotBuffers::kColorOffset], v[SnapshotBuffers::kColorOffset + 1],
+          v[SnapshotBuffers::kColorOffset + 2]};
+}
+
+}  // namespace
+
+class BuffersTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void outlinesAreTheWallBoundaries() {
+    // Two cubes sharing a face: 12 + 12 − 4 = 20 distinct edges; no square's diagonal.
+    const tp::CellComplex cc = tp::boxTissue(2, 1, 1, 5.0);
+    const auto edges = wallOutlineEdges(cc);
+    QCOMPARE(int(edges.size()), 2 * 20);
+    for (size_t i = 0; i < edges.size(); i += 2) {
+      const Eigen::Vector3d d = cc.rest.col(edges[i]) - cc.rest.col(edges[i + 1]);
+      QVERIFY(std::abs(d.norm() - 5.0) < 1e-12);  // cube edges, not diagonals (7.07)
+    }
+  }
+
+  void sizesColoursAndAttributes() {
+    const tp::CellComplex cc = tp::boxTissue(2, 1, 1, 5.0);
+    const Snapshot s = boxSnapshot(cc);
+    const int T = cc.triangleCount();
+    ColorMap map;
+    map.setRange(0, T - 1);
+    SnapshotBuffers b;
+    b.build(s, Field::VonMises, map);
+    QCOMPARE(b.triangleVertexCount(), 3 * T);
+    QCOMPARE(int(b.triangleVertices().size()), 3 * T * SnapshotBuffers::kTriangleStride);
+    QCOMPARE(b.lineVertexCount(), 40);
+    int clamped = 0;
+    for (auto f : cc.fixed) clamped += f;
+    QCOMPARE(b.clampedPointCount(), clamped);
+    QVERIFY((b.bounds().max() - Eigen::Vector3d(10, 5, 5)).norm() < 1e-6);
+
+    for (int t = 0; t < T; ++t) {
+      const Eigen::Vector3f expected = map.color(t);
+      for (int k = 0; k < 3; ++k) QVERIFY((colourOf(b, 3 * t + k) - expected).norm() < 1e-6f);
+      const float* v = b.triangleVertices().data() + 3 * t * SnapshotBuffers::kTriangleStride;
+      // Position = the triangle's first corner; a unit normal; the wall's cells; the flags.
+      const auto& tri = cc.triangles[t];
+      QVERIFY(std::abs(v[0] - cc.rest(0, tri[0])) < 1e-6f);
+      QVERIFY(std::abs(Eigen::Vector3f(v[3], v[4], v[5]).norm() - 1) < 1e-6f);
+      const auto& wall = cc.walls[cc.triangleWall[t]];
+      QCOMPARE(int(v[SnapshotBuffers::kCellsOffset]), wall.cell);
+      QCOMPARE(int(v[SnapshotBuffers::kCellsOffset + 1]), wall.neighbor);
+      const int flags = int(v[SnapshotBuffers::kFlagsOffset]);
+      const bool base = cc.fixed[tri[0]] && cc.fixed[tri[1]] && cc.fixed[tri[2]];
+      QCOMPARE(bool(flags & SnapshotBuffers::kClamped), base);
+      QCOMPARE(bool(flags & SnapshotBuffers::kOuter), cc.isOuterTriangle(t));
+    }
+    // The ends of the map at the ends of the range.
+    QVERIFY((colourOf(b, 0) - map.colorAt(0)).norm() < 1e-6f);
+    QVERIFY((colourOf(b, 3 * (T - 1)) - map.colorAt(1)).norm() < 1e-6f);
+  }
+
+  void anotherFieldAnotherColour() {
+    const tp::CellComplex cc = tp::boxTissue(1, 1, 1, 5.0);
+    Snapshot s = boxSnapshot(cc);
+    s.fields[int(Field::Displacement)].assign(cc.triangleCount(), 2.0f);
+    ColorMap map;
+    map.setRange(0, 2);
+    SnapshotBuffers b;
+    b.build(s, Field::Displacement, map);
+    for (int v = 0; v < b.triangleVertexCount(); ++v)
+      QVERIFY((colourOf(b, v) - map.colorAt(1)).norm() < 1e-6f);
+  }
+
+  void emptySnapshotGivesEmptyArrays() {
+    SnapshotBuffers b;
+    b.build(Snapshot{}, Field::VonMises, ColorMap{});
+    QCOMPARE(b.triangleVertexCount(), 0);
+    QCOMPARE(b.lineVertexCount(), 0);
+  }
+
+  void probeSphereIsAClosedOutwardUnitSphere() {
+    for (int level : {0, 2}) {
+      const std::vector<float> m = unitSphereMesh(level);
+      QCOMPARE(int(m.size()), 20 * (1 << (2 * level)) * 3 * 6);
+      for (size_t i = 0; i < m.size(); i += 18) {
+        Eigen::Vector3f a(m[i], m[i + 1], m[i + 2]), b(m[i + 6], m[i + 7], m[i + 8]),
+            c(m[i + 12], m[i + 13], m[i + 14]);
+        QVERIFY(std::abs(a.norm() - 1) < 1e-6f);
+        QVERIFY((b - a).cross(c - a).dot(a + b + c) > 0);  // counter-clockwise from outside
+      }
+    }
+  }
+
+  void autoRanges() {
+    const tp::CellComplex cc = tp::boxTissue(1, 1, 1, 5.0);
+    Snapshot s = boxSnapshot(cc);
+    auto& f = s.fields[int(Field::PrincipalMax)];
+    f.assign(f.size(), 1.0f);
+    f[0] = -2.0f;
+    f[1] = 5.0f;
+    f[2] = std::nanf("");
+    const auto [lo, hi] = autoRange(s, Field::PrincipalMax, false);
+    QCOMPARE(lo, -2.0);
+    QCOMPARE(hi, 5.0);
+    const auto [dlo, dhi] = autoRange(s, Field::PrincipalMax, true);  // zero in the middle
+    QCOMPARE(dlo, -5.0);
+    QCOMPARE(dhi, 5.0);
+  }
+};
+
+TP_GUI_TEST(BuffersTest)
+#include "test_buffers.moc"

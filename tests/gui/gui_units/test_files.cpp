@@ -1,0 +1,168 @@
+// Sessions (JSON round trip, relative tissue paths, errors that name the key) and curves (CSV of
+// several curves, nondimensional scales).
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+#include <fstream>
+
+#include "Curves.h"
+#include "SessionFile.h"
+#include "TestMain.h"
+#include "io/CurveCsv.h"
+
+using namespace tp::gui;
+
+namespace {
+
+NamedCurve curve(const std::string& name, double stiffness, bool withFailure) {
+  NamedCurve c;
+  c.name = name;
+  c.site = Eigen::Vector3d(1.25, -3.5, 45.75);
+  c.params.youngModulus = 20 + stiffness;
+  c.params.pressure = 0.3;
+  c.params.bending = tp::BendingModel::Linear;
+  for (int k = 0; k <= 4; ++k)
+    c.points.push_back({0.1 * k, stiffness * 0.1 * k, 3 + k, 1e-10 * k, true, false});
+  c.points.push_back({0.2, stiffness * 0.2 + 1e-13, 2, 3e-11, true, true});  // unloading
+  if (withFailure) c.points.push_back({0.5, std::nan(""), 60, 0.3, false, false});
+  return c;
+}
+
+bool samePoints(const std::vector<tp::CurvePoint>& a, const std::vector<tp::CurvePoint>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const auto &p = a[i], &q = b[i];
+    const bool force = (std::isnan(p.force) && std::isnan(q.force)) || p.force == q.force;
+    if (p.depth != q.depth || !force || p.iterations != q.iterations || p.residual != q.residual ||
+        p.converged != q.converged || p.unloading != q.unloading)
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+class FilesTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void sessionRoundTrip() {
+    SessionState s;
+    s.tissuePath = "/data/meristem.ply";
+    s.params.youngModulus = 3.5;
+    s.params.poissonRatio = 0.3;
+    s.params.thickness = 0.15;
+    s.params.pressure = 0;
+    s.params.bending = tp::BendingModel::None;
+    s.params.probeRadius = 0.4;
+    s.params.refineLevel = 2;
+    s.params.refineRadius = 7.5;
+    s.schedule.control = tp::Control::Force;
+    s.schedule.maxForce = 12.5;
+    s.schedule.steps = 7;
+    s.schedule.unload = true;
+    s.sites = {Eigen::Vector3d(0, 0, 45.8), Eigen::Vector3d(10.5, -2, 40.1)};
+    s.currentSite = 1;
+    s.curves = {curve("site 1 · E 100 MPa", 60, false), curve("quote \" and, comma", 30, true)};
+    s.curves[1].live = true;
+    const SessionState r = sessionFromJson(sessionToJson(s), "test");
+    QCOMPARE(r.tissuePath, s.tissuePath);
+    QVERIFY(r.params == s.params);
+    QVERIFY(r.schedule == s.schedule);
+    QCOMPARE(r.currentSite, 1);
+    QCOMPARE(int(r.sites.size()), 2);
+    QVERIFY(r.sites[1] == s.sites[1]);
+    QCOMPARE(int(r.curves.size()), 2);
+    for (int i = 0; i < 2; ++i) {
+      QCOMPARE(r.curves[i].name, s.curves[i].name);
+      QVERIFY(r.curves[i].site == s.curves[i].site);
+      QVERIFY(r.curves[i].params == s.curves[i].params);
+      QCOMPARE(r.curves[i].live, s.curves[i].live);
+      QVERIFY(samePoints(r.curves[i].points, s.curves[i].points));
+    }
+  }
+
+  void sessionFileKeepsTheTissueNextToIt() {
+    QTemporaryDir dir;
+    SessionState s;
+    s.tissuePath = (dir.path() + "/meshes/t.ply").toStdString();
+    const std::string path = (dir.path() + "/session.json").toStdString();
+    saveSession(path, s);
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    QVERIFY(text.find("\"meshes/t.ply\"") != std::string::npos);  // stored relative
+    QCOMPARE(loadSession(path).tissuePath, s.tissuePath);         // read back absolute
+  }
+
+  void badSessionsAreRejectedByName() {
+    auto message = [](const nlohmann::json& j) {
+      try {
+        sessionFromJson(j, "s.json");
+      } catch (const std::runtime_error& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    nlohmann::json good = sessionToJson(SessionState{});
+    QVERIFY(message(good).empty());
+    nlohmann::json j = good;
+    j["parameters"]["E_MPa"] = "soft";
+    QVERIFY(message(j).find("E_MPa") != std::string::npos);
+    j = good;
+    j["format"] = "something";
+    QVERIFY(message(j).find("not a TissueProbe session") != std::string::npos);
+    j = good;
+    j["current_site"] = 3;
+    QVERIFY(message(j).find("current_site") != std::string::npos);
+    j = good;
+    j["curves"] = {{{"name", "c"}, {"points", {{1, 2, 3}}}}};
+    QVERIFY(message(j).find("curves[0].points[0]") != std::string::npos);
+    QVERIFY(message(j).rfind("s.json", 0) == 0);  // the file is named first
+  }
+
+  void severalCurvesInOneCsv() {
+    const std::vector<NamedCurve> curves = {
+        curve("site 1 (0.0, 0.0, 45.8) µm · E 100 MPa", 60, false),
+        curve("with \"quotes\", commas", 25, true), curve("third", 10, false)};
+    const std::string text = curvesCsv(curves);
+    size_t rows = 0;
+    for (char c : text) rows += c == '\n';
+    QCOMPARE(int(rows), 1 + 6 + 7 + 6);
+    QVERIFY(text.rfind("curve,depth_um,force_uN,iterations,residual,converged,unloading\n", 0) ==
+            0);
+    const auto back = parseCurvesCsv(text, "curves.csv");
+    QCOMPARE(int(back.size()), 3);
+    for (int i = 0; i < 3; ++i) {
+      QCOMPARE(back[i].first, curves[i].name);
+      QVERIFY(samePoints(back[i].second, curves[i].points));
+    }
+    // Written atomically to a file, read back the same.
+    QTemporaryDir dir;
+    const std::string path = (dir.path() + "/curves.csv").toStdString();
+    writeCurvesCsv(path, curves);
+    std::ifstream in(path);
+    QCOMPARE(std::string((std::istreambuf_iterator<char>(in)), {}), text);
+  }
+
+  void curveNamesTellSiteAndParameters() {
+    SimulationParams p;
+    p.pressure = 0;
+    const std::string n = curveName(2, Eigen::Vector3d(1.04, -2, 45.76), p, false);
+    QVERIFY(n.find("site 2 (1.0, -2.0, 45.8)") != std::string::npos);
+    QVERIFY(n.find("p 0 MPa") != std::string::npos);
+    QVERIFY(n.find("E 100 MPa") != std::string::npos);
+  }
+
+  void nondimensionalScales() {
+    const AxisScale real = axisScale(false, 6, 100);
+    QCOMPARE(real.depth, 1.0);
+    QCOMPARE(real.force, 1.0);
+    const AxisScale nd = axisScale(true, 6, 100);  // L = 6 µm, E = 100 MPa: E L² = 3600 µN
+    QVERIFY(std::abs(nd.depth - 1.0 / 6) < 1e-15);
+    QVERIFY(std::abs(nd.force - 1.0 / 3600) < 1e-15);
+  }
+};
+
+TP_GUI_TEST(FilesTest)
+#include "test_files.moc"

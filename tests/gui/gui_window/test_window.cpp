@@ -1,0 +1,462 @@
+// The real window with OpenGL (run under a virtual X server): a small generated meristem is
+// loaded, a site is clicked where the top of the tissue projects, the probe is dragged in with
+// synthetic mouse events, curves are run and cancelled with the keyboard, files are exported and
+// read back, a session is saved and reopened, a bad file is refused with a message, and a
+// screenshot of the whole window is written and checked for content.
+#include <QDir>
+#include <QElapsedTimer>
+#include <QFile>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QSet>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <qcustomplot.h>
+#include <fstream>
+
+#include "DisplayPanel.h"
+#include "FileActions.h"
+#include "MainWindow.h"
+#include "ParameterPanel.h"
+#include "PlotPanel.h"
+#include "RecentFiles.h"
+#include "SimulationController.h"
+#include "TestMain.h"
+#include "TissueView.h"
+#include "io/CurveCsv.h"
+#include "io/Paths.h"
+#include "io/Ply.h"
+#include "tissue/Meristem.h"
+
+using namespace tp::gui;
+
+namespace {
+
+int distinctColours(const QImage& image) {
+  QSet<QRgb> colours;
+  const QImage img = image.convertToFormat(QImage::Format_RGB32);
+  for (int y = 0; y < img.height(); y += 2)
+    for (int x = 0; x < img.width(); x += 2) colours.insert(img.pixel(x, y));
+  return colours.size();
+}
+
+double changedFraction(const QImage& a, const QImage& b) {
+  if (a.size() != b.size()) return 1.0;
+  const QImage x = a.convertToFormat(QImage::Format_RGB32),
+               y = b.convertToFormat(QImage::Format_RGB32);
+  long changed = 0;
+  for (int r = 0; r < x.height(); ++r)
+    for (int c = 0; c < x.width(); ++c) changed += x.pixel(c, r) != y.pixel(c, r);
+  return double(changed) / (double(x.width()) * x.height());
+}
+
+void sendMouse(QWidget* w, QEvent::Type type, const QPoint& p, Qt::MouseButton button,
+               Qt::MouseButtons buttons, Qt::KeyboardModifiers mods = {}) {
+  QMouseEvent e(type, QPointF(p), QPointF(w->mapToGlobal(p)), button, buttons, mods);
+  QApplication::sendEvent(w, &e);
+}
+
+// The highest point of the free outer surface: the centroid of the highest outer triangle.
+Eigen::Vector3d topOfTissue(const Snapshot& s) {
+  const TissueGeometry& g = *s.geometry;
+  Eigen::Vector3d best(0, 0, -1e300);
+  for (int t = 0; t < g.triangleCount(); ++t) {
+    if (!g.outer[t] || g.clampedTriangle[t]) continue;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const auto v = g.triangles[3 * t + k];
+      c += Eigen::Vector3d(s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]) / 3;
+    }
+    if (c.z() > best.z()) best = c;
+  }
+  return best;
+}
+
+QPoint pixelOf(TissueView* view, const Eigen::Vector3d& world) {
+  Camera cam = view->camera();
+  cam.setViewport(view->width(), view->height());
+  const Eigen::Vector3d p = cam.project(world);
+  return QPoint(int(p.x()), int(p.y()));
+}
+
+QString buildDir() {
+  const QByteArray d = qgetenv("TP_BUILD_DIR");
+  return d.isEmpty() ? QDir::currentPath() : QString::fromUtf8(d);
+}
+
+}  // namespace
+
+class WindowTest : public QObject {
+  Q_OBJECT
+
+  QTemporaryDir dir_;
+  QString tissue_;
+  std::unique_ptr<MainWindow> w_;
+  SimulationController* c_ = nullptr;
+  TissueView* view_ = nullptr;
+
+  void waitIdle(int ms = 120000) {
+    QTRY_VERIFY_WITH_TIMEOUT(!c_->busy() && !c_->running(), ms);
+    QTest::qWait(50);  // let the last snapshot reach the view
+  }
+
+ private slots:
+  void initTestCase() {
+    // A small meristem: 60 cells in a dome of radius 15 µm.
+    tp::MeristemParams prm;
+    prm.cells = 60;
+    prm.shape.radius = 15;
+    prm.shape.capHeight = 13;
+    prm.shape.stemHeight = 4;
+    prm.l1Thickness = 3.5;
+    prm.l2Thickness = 4;
+    tissue_ = dir_.path() + "/small.ply";
+    tp::writePly(tissue_.toStdString(), tp::generateMeristem(prm));
+
+    w_ = std::make_unique<MainWindow>();
+    w_->resize(1280, 800);
+    w_->show();
+    QVERIFY(QTest::qWaitForWindowExposed(w_.get()));
+    w_->activateWindow();  // shortcuts (Space, Esc) need the active window
+    QVERIFY(QTest::qWaitForWindowActive(w_.get()));
+    c_ = w_->controller();
+    view_ = w_->view();
+    QSignalSpy loaded(c_, &SimulationController::tissueLoaded);
+    w_->fileActions()->openTissue(tissue_);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->prepared(), 120000);
+    waitIdle();
+    QCOMPARE(loaded.count(), 1);
+    QVERIFY(w_->windowTitle().contains("small.ply"));
+    QVERIFY(view_->frameCount() > 0);
+  }
+
+  void hoverNamesTheCell() {
+    const QPoint p = pixelOf(view_, topOfTissue(c_->latest()));
+    sendMouse(view_, QEvent::MouseMove, p, Qt::NoButton, Qt::NoButton);
+    QVERIFY(view_->highlightedCell() >= 0);
+    QSignalSpy text(view_, &TissueView::hoverChanged);
+    sendMouse(view_, QEvent::MouseMove, QPoint(2, 2), Qt::NoButton, Qt::NoButton);  // background
+    QCOMPARE(view_->highlightedCell(), -1);
+    sendMouse(view_, QEvent::MouseMove, p, Qt::NoButton, Qt::NoButton);
+    QCOMPARE(text.count(), 2);
+    QVERIFY2(text.last().first().toString().startsWith("Cell "),
+             qPrintable(text.last().first().toString()));
+    QVERIFY(text.last().first().toString().contains("µm³"));
+  }
+
+  void clickChoosesTheSite() {
+    const Eigen::Vector3d top = topOfTissue(c_->latest());
+    const QPoint p = pixelOf(view_, top);
+    const auto hit = view_->pickAt(p);
+    QVERIFY(hit);
+    QVERIFY((hit->point - top).norm() < 1.0);  // the pixel shows the top
+    const int preparation = c_->latest().preparation;
+    QTest::mouseClick(view_, Qt::LeftButton, {}, p);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
+    waitIdle();
+    const Snapshot& s = c_->latest();
+    QVERIFY2((s.site - top).norm() < 1.0,
+             qPrintable(QString("site %1 µm from the click").arg((s.site - top).norm())));
+    QVERIFY(s.probeVisible);
+    QVERIFY(s.axis.z() < -0.5);  // inward at the top: downwards
+    // The probe touches the surface: its centre one radius out along the normal.
+    QVERIFY(std::abs((s.contactCenter - s.site).norm() - s.probeRadius) < 0.05);
+    QCOMPARE(s.depth, 0.0);
+    QCOMPARE(int(c_->session().sites.size()), 2);  // the default (top) site and this one
+  }
+
+  void dragPushesTheProbeIn() {
+    QCoreApplication::processEvents();
+    const QImage before = view_->grabFramebuffer();
+    const int curves = int(c_->curves().size());
+    const int frames = view_->frameCount();
+    // Right button, 60 pixels down = 0.6 probe radii = 0.6 µm, in 12 moves.
+    const QPoint start = view_->rect().center();
+    sendMouse(view_, QEvent::MouseButtonPress, start, Qt::RightButton, Qt::RightButton);
+    for (int i = 1; i <= 12; ++i) {
+      sendMouse(view_, QEvent::MouseMove, start + QPoint(0, 5 * i), Qt::NoButton, Qt::RightButton);
+      QTest::qWait(40);
+    }
+    sendMouse(view_, QEvent::MouseButtonRelease, start + QPoint(0, 60), Qt::RightButton,
+              Qt::NoButton);
+    QVERIFY(std::abs(w_->parameterPanel()->depth() - 0.6) < 1e-9);
+    QTRY_VERIFY_WITH_TIMEOUT(std::abs(c_->latest().depth - 0.6) < 1e-9, 120000);
+    waitIdle();
+    QVERIFY(view_->frameCount() > frames);
+    const Snapshot& s = c_->latest();
+    QVERIFY2(s.force > 0, qPrintable(QString("force %1 µN").arg(s.force)));
+    // The force rises along the live curve.
+    QCOMPARE(int(c_->curves().size()), curves + 1);
+    auto pts = c_->curves().back().points;
+    QVERIFY(pts.size() >= 2);
+    std::sort(pts.begin(), pts.end(), [](auto& a, auto& b) { return a.depth < b.depth; });
+    for (size_t i = 1; i < pts.size(); ++i) QVERIFY(pts[i].force > pts[i - 1].force);
+    // The plot has the points, the picture has changed.
+    QCustomPlot* plot = w_->plotPanel()->plot();
+    QVERIFY(plot->graphCount() >= 1);
+    QCOMPARE(plot->graph(plot->graphCount() - 1)->data()->size(), int(pts.size()));
+    const QImage after = view_->grabFramebuffer();
+    const double changed = changedFraction(before, after);
+    qInfo("drag: depth %.3f µm, force %.4g µN, %.1f %% of the view's pixels changed", s.depth,
+          s.force, 100 * changed);
+    QVERIFY(changed > 0.002);
+  }
+
+  void screenshotOfTheWindow() {
+    QCoreApplication::processEvents();
+    const QImage shot = grabWindowWithView(w_.get(), view_);
+    const QString path = buildDir() + "/gui_screenshot.png";
+    QVERIFY(shot.save(path));
+    qInfo("window screenshot: %s (%dx%d, %d colours)", qPrintable(path), shot.width(),
+          shot.height(), distinctColours(shot));
+    QVERIFY(distinctColours(shot) > 200);
+    // The 3D view's region of the window shot is drawn (not one flat colour).
+    const QRect region(view_->mapTo(w_.get(), QPoint(0, 0)), view_->size());
+    const QImage gl = shot.copy(region);
+    QVERIFY2(distinctColours(gl) > 100, "the GL region of the window grab is (nearly) uniform");
+    // A screenshot of the view at twice its size.
+    QString error;
+    const QString png = dir_.path() + "/view.png";
+    const QSize size = view_->size() * 2;
+    QVERIFY2(w_->fileActions()->exportScreenshot(png, size, &error), qPrintable(error));
+    const QImage big(png);
+    QCOMPARE(big.size(), size);
+    QVERIFY(distinctColours(big) > 100);
+  }
+
+  void displayControlsChangeThePicture() {
+    const QImage plain = view_->grabFramebuffer();
+    w_->displayPanel()->setSectionEnabled(true);
+    QVERIFY(view_->clipPlane().has_value());
+    const QImage cut = view_->grabFramebuffer();
+    QVERIFY(changedFraction(plain, cut) > 0.01);
+    w_->displayPanel()->setSectionEnabled(false);
+    view_->setField(Field::Displacement);
+    QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.01);
+    view_->setField(Field::VonMises);
+  }
+
+  void manualColourRange() {
+    QVERIFY(view_->autoRange());
+    view_->setAutoRange(false);
+    view_->setRange(1.0, 2.0);
+    QCOMPARE(view_->colorMap().lo(), 1.0);
+    QCOMPARE(view_->colorMap().hi(), 2.0);
+    QSignalSpy range(view_, &TissueView::rangeChanged);
+    view_->setRange(1.0, 2.0);  // unchanged: no signal
+    QCOMPARE(range.count(), 0);
+    view_->setAutoRange(true);
+    QCOMPARE(range.count(), 1);
+    QVERIFY(view_->colorMap().hi() > 2.0);  // back to the data (MPa under turgor)
+  }
+
+  void keysMoveTheCamera() {
+    view_->setFocus();
+    QTest::keyClick(view_, Qt::Key_7);
+    QVERIFY((view_->camera().viewDirection() - Eigen::Vector3d(0, 0, -1)).norm() < 1e-9);
+    QTest::keyClick(view_, Qt::Key_1);
+    QVERIFY((view_->camera().viewDirection() - Eigen::Vector3d(0, 1, 0)).norm() < 1e-9);
+    QTest::keyClick(view_, Qt::Key_3);
+    QVERIFY((view_->camera().viewDirection() - Eigen::Vector3d(-1, 0, 0)).norm() < 1e-9);
+    const Eigen::Vector3d eye = view_->camera().eye();
+    QTest::keyClick(view_, Qt::Key_Left);
+    QVERIFY((view_->camera().eye() - eye).norm() > 1e-3);
+    const double d = view_->camera().distance();
+    QTest::keyClick(view_, Qt::Key_Plus);
+    QVERIFY(view_->camera().distance() < d);
+    QTest::keyClick(view_, Qt::Key_F);
+    QTest::keyClick(view_, Qt::Key_R);
+    QVERIFY(std::abs(view_->camera().up().z()) > 0.5);
+  }
+
+  void runAndCancelCurvesFromTheKeyboard() {
+    Schedule s;
+    s.maxDepth = 0.3;
+    s.steps = 3;
+    w_->parameterPanel()->setSchedule(s);
+    c_->setSchedule(s);
+    const int curves = int(c_->curves().size());
+    view_->setFocus();
+    QTest::keyClick(view_, Qt::Key_Space);  // Run curve
+    QVERIFY(c_->running());
+    waitIdle();
+    QCOMPARE(int(c_->curves().size()), curves + 1);
+    const auto& run = c_->curves().back();
+    QCOMPARE(int(run.points.size()), 4);
+    for (int i = 1; i < 4; ++i) QVERIFY(run.points[i].force > run.points[i - 1].force);
+    QCOMPARE(w_->plotPanel()->plot()->graphCount(), curves + 1);
+
+    s.steps = 100;
+    c_->setSchedule(s);
+    QSignalSpy progress(c_, &SimulationController::runProgress);
+    QTest::keyClick(view_, Qt::Key_Space);
+    QTRY_VERIFY_WITH_TIMEOUT(progress.count() >= 1, 60000);
+    QTest::keyClick(view_, Qt::Key_Escape);  // Cancel
+    waitIdle();
+    QVERIFY(c_->curves().back().points.size() < 50);
+  }
+
+  void exportsAreWrittenAndReadBack() {
+    QString error;
+    PlotPanel* plot = w_->plotPanel();
+    for (const QString ext : {"png", "svg", "pdf"}) {
+      const QString path = dir_.path() + "/plot." + ext;
+      QVERIFY2(plot->exportImage(path, 800, 500, &error), qPrintable(error));
+      QFile f(path);
+      QVERIFY(f.open(QIODevice::ReadOnly));
+      const QByteArray head = f.read(2000);
+      if (ext == "pdf") QVERIFY(head.startsWith("%PDF"));
+      if (ext == "svg") QVERIFY(head.contains("<svg"));
+      if (ext == "png") QCOMPARE(QImage(path).size(), QSize(800, 500));
+    }
+    QVERIFY(!plot->exportImage(dir_.path() + "/plot.xyz", 0, 0, &error));
+    QVERIFY(error.contains("unknown format"));
+
+    const QString all = dir_.path() + "/curves.csv";
+    QVERIFY2(w_->fileActions()->exportCurves(all, &error), qPrintable(error));
+    QFile f(all);
+    QVERIFY(f.open(QIODevice::ReadOnly));
+    const auto back = parseCurvesCsv(f.readAll().toStdString(), "curves.csv");
+    QCOMPARE(int(back.size()), int(c_->curves().size()));
+
+    const QString one = dir_.path() + "/curve.csv";
+    QVERIFY2(w_->fileActions()->exportCurrentCurve(one, &error), qPrintable(error));
+    QCOMPARE(tp::readCurveCsv(one.toStdString()).size(), c_->curves().back().points.size());
+
+    const QString vtu = dir_.path() + "/state.vtu";
+    QSignalSpy done(c_, &SimulationController::exportFinished);
+    c_->exportVtu(vtu);
+    QTRY_COMPARE_WITH_TIMEOUT(done.count(), 1, 60000);
+    QVERIFY2(done.first().at(1).toBool(), qPrintable(done.first().at(2).toString()));
+    QFile v(vtu);
+    QVERIFY(v.open(QIODevice::ReadOnly));
+    const QByteArray text = v.readAll();
+    QVERIFY(text.contains("<VTKFile") && text.contains("von_mises_MPa"));
+  }
+
+  void sessionSavedAndReopened() {
+    const QString path = dir_.path() + "/session.json";
+    QString error;
+    QVERIFY2(w_->fileActions()->saveSession(path, &error), qPrintable(error));
+    const auto names = c_->curves();
+    const Eigen::Vector3d site = c_->latest().site;
+    c_->clearCurves();
+    QCOMPARE(w_->plotPanel()->plot()->graphCount(), 0);
+    const int preparation = c_->latest().preparation;
+    QVERIFY2(w_->fileActions()->openSession(path, &error), qPrintable(error));
+    QCOMPARE(int(c_->curves().size()), int(names.size()));
+    for (size_t i = 0; i < names.size(); ++i) QCOMPARE(c_->curves()[i].name, names[i].name);
+    QCOMPARE(w_->plotPanel()->plot()->graphCount(), int(names.size()));
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
+    waitIdle();
+    QVERIFY((c_->latest().site - site).norm() < 0.5);  // the last site, prepared again
+  }
+
+  void nondimensionalAxesShowTheCellSize() {
+    PlotPanel* plot = w_->plotPanel();
+    const double L = c_->meanCellSize();
+    QVERIFY(L > 1 && L < 20);
+    const double x =
+        plot->plot()->graph(0)->data()->at(plot->plot()->graph(0)->data()->size() - 1)->key;
+    plot->setNondimensional(true);
+    QVERIFY(plot->plot()->xAxis->label().contains(QString::number(L, 'f', 2)));
+    QVERIFY(plot->plot()->yAxis->label().contains("E L²"));
+    const double xn =
+        plot->plot()->graph(0)->data()->at(plot->plot()->graph(0)->data()->size() - 1)->key;
+    QVERIFY(std::abs(xn - x / L) < 1e-12);
+    plot->setNondimensional(false);
+  }
+
+  void dropAndRecentFiles() {
+    QVERIFY(RecentFiles::list().contains(QFileInfo(tissue_).absoluteFilePath()));
+    // Dropping a tissue file on the window opens it.
+    QSignalSpy loaded(c_, &SimulationController::tissueLoaded);
+    auto* mime = new QMimeData;
+    mime->setUrls({QUrl::fromLocalFile(tissue_)});
+    const QPoint at = w_->rect().center();
+    QDragEnterEvent enter(at, Qt::CopyAction, mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w_.get(), &enter);
+    QVERIFY(enter.isAccepted());
+    QDropEvent drop(QPointF(at), Qt::CopyAction, mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w_.get(), &drop);
+    QTRY_COMPARE_WITH_TIMEOUT(loaded.count(), 1, 60000);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->prepared() && !c_->busy(), 120000);
+    delete mime;
+  }
+
+  void aBadFileIsRefusedWithAMessage() {
+    const QString bad = dir_.path() + "/broken.ply";
+    std::ofstream(bad.toStdString())
+        << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+           "property float y\nproperty float z\nend_header\n0 0 0\n";
+    const auto geometry = c_->latest().geometry;
+    w_->fileActions()->open(bad);
+    QMessageBox* box = nullptr;
+    QTRY_VERIFY_WITH_TIMEOUT((box = w_->findChild<QMessageBox*>("errorBox")) && box->isVisible(),
+                             60000);
+    QVERIFY2(box->text().contains("broken.ply"), qPrintable(box->text()));
+    box->close();
+    waitIdle();
+    QCOMPARE(c_->latest().geometry, geometry);  // the previous tissue stays
+    QVERIFY(c_->prepared());
+  }
+
+  void dragRatesOnTheDefaultMeristem() {
+    // A measurement, not a check: TP_GUI_MEASURE=1 build/bin/test_gui_window dragRates...
+    if (qEnvironmentVariableIsEmpty("TP_GUI_MEASURE")) QSKIP("set TP_GUI_MEASURE=1 to measure");
+    QElapsedTimer load;
+    load.start();
+    w_->fileActions()->openTissue(QString::fromStdString(tp::defaultTissuePath()));
+    QTRY_VERIFY_WITH_TIMEOUT(c_->prepared() && c_->latest().geometry->cellCount() > 400, 300000);
+    waitIdle(300000);
+    qInfo("default meristem loaded and prepared in %.2f s", load.nsecsElapsed() / 1e9);
+    const int frames0 = view_->frameCount(), snaps0 = c_->snapshotCount();
+    QElapsedTimer timer;
+    timer.start();
+    const QPoint start = view_->rect().center();
+    sendMouse(view_, QEvent::MouseButtonPress, start, Qt::RightButton, Qt::RightButton);
+    // Down to 1 µm and back, repeatedly, at 60 mouse events per second for 20 s.
+    int i = 0;
+    while (timer.elapsed() < 20000) {
+      const int phase = i++ % 200;
+      const int dy = phase < 100 ? phase : 200 - phase;
+      sendMouse(view_, QEvent::MouseMove, start + QPoint(0, dy), Qt::NoButton, Qt::RightButton);
+      QTest::qWait(16);
+    }
+    sendMouse(view_, QEvent::MouseButtonRelease, start, Qt::RightButton, Qt::NoButton);
+    const double s = timer.nsecsElapsed() / 1e9;
+    const int frames = view_->frameCount() - frames0, snaps = c_->snapshotCount() - snaps0;
+    qInfo(
+        "default meristem, probe drag for %.1f s: %d frames (%.1f fps), %d equilibria (%.2f per s)",
+        s, frames, frames / s, snaps, snaps / s);
+    waitIdle(300000);
+    // Turning the tissue (left drag) for 5 s: every mouse event asks for a frame.
+    const int frames1 = view_->frameCount();
+    timer.restart();
+    sendMouse(view_, QEvent::MouseButtonPress, start, Qt::LeftButton, Qt::LeftButton);
+    for (int k = 0; timer.elapsed() < 5000; ++k) {
+      sendMouse(view_, QEvent::MouseMove, start + QPoint(4 * (k % 100) - 200, 0), Qt::NoButton,
+                Qt::LeftButton);
+      QTest::qWait(16);
+    }
+    sendMouse(view_, QEvent::MouseButtonRelease, start, Qt::LeftButton, Qt::NoButton);
+    const double r = timer.nsecsElapsed() / 1e9;
+    qInfo("default meristem, turning for %.1f s: %.1f fps", r, (view_->frameCount() - frames1) / r);
+  }
+
+  void layoutIsRemembered() {
+    w_->close();
+    QSettings settings;
+    QVERIFY(!settings.value("window/geometry").toByteArray().isEmpty());
+    QVERIFY(!settings.value("window/state").toByteArray().isEmpty());
+    QVERIFY2(settings.fileName().startsWith(QDir::tempPath()), qPrintable(settings.fileName()));
+  }
+
+  void cleanupTestCase() { w_.reset(); }
+};
+
+TP_GUI_TEST(WindowTest)
+#include "test_window.moc"
