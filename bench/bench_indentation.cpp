@@ -101,6 +101,7 @@ void curve(benchmark::State& state, SolverKind kind) {
   options.kind = kind;
   double force = 0;
   int solverIterations = 0, cg = 0, factorizations = 0;
+  SolverTotals spent;
   for (auto _ : state) {
     state.PauseTiming();
     Setup s = prepare(cc, options, settings);
@@ -114,6 +115,10 @@ void curve(benchmark::State& state, SolverKind kind) {
     solverIterations = after.iterations - before.iterations;
     cg = after.pcgIterations - before.pcgIterations;
     factorizations = after.factorizations - before.factorizations;
+    spent.assemblySeconds = after.assemblySeconds - before.assemblySeconds;
+    spent.factorSeconds = after.factorSeconds - before.factorSeconds;
+    spent.pcgSeconds = after.pcgSeconds - before.pcgSeconds;
+    spent.lineSearchSeconds = after.lineSearchSeconds - before.lineSearchSeconds;
     state.ResumeTiming();
   }
   state.counters["final_force_uN"] = force;
@@ -121,6 +126,10 @@ void curve(benchmark::State& state, SolverKind kind) {
   state.counters["cg_iterations"] = cg;
   state.counters["factorizations"] = factorizations;
   state.counters["depth_um"] = settings.maxDepth;
+  state.counters["assembly_s"] = spent.assemblySeconds;
+  state.counters["factorization_s"] = spent.factorSeconds;
+  state.counters["cg_s"] = spent.pcgSeconds;
+  state.counters["gradients_s"] = spent.lineSearchSeconds;
 }
 
 void BM_LoadingCurve(benchmark::State& state) { curve(state, SolverKind::Newton); }

@@ -167,6 +167,7 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
   out.probeCoupling.setZero(3 * V, 3);
   out.contactTriangles = 0;
   if (withHessian) out.hessian.assign(pattern_.nnz(), 0.0);
+  out.hasHessian = withHessian;
   double* grad = out.gradient.data();
   double* load = out.loadGradient.data();
   double* vals = withHessian ? out.hessian.data() : nullptr;
@@ -247,6 +248,13 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
     const double w = sphereTriangleEnergy(contact_, probe_->center, probe_->radius, a, b, cpos,
                                           &g12, withHessian ? &H12 : nullptr);
     if (w == 0.0 && g12.isZero()) return;
+    if (withHessian && projectContact_) {
+      // The sphere's curvature makes the contact Hessian indefinite (−φ'/(2d) ∇²D); keep its
+      // positive part, as contact codes do for barrier terms, so it never spoils the tangent.
+      Eigen::SelfAdjointEigenSolver<Mat12> es(H12);
+      H12 = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+            es.eigenvectors().transpose();
+    }
     ++out.contactTriangles;
     out.energy.contact += w;
     const Vec9 gx = g12.tail<9>();

@@ -32,6 +32,7 @@ struct Evaluation {
   Eigen::VectorXd gradient;      // 3V, ∂W/∂x (all components, clamped ones included)
   Eigen::VectorXd loadGradient;  // 3V, the part due to loads (pressure, contact, point forces)
   std::vector<double> hessian;   // values over Model::pattern() (free unknowns, upper triangle)
+  bool hasHessian = false;       // hessian (and the probe's second derivatives) were computed
   // Probe: derivatives with respect to the sphere's centre p.
   Vec3 probeGradient = Vec3::Zero();  // ∂W/∂p: the force the probe exerts on the tissue (µN)
   Mat3 probeHessian = Mat3::Zero();   // ∂²W/∂p²
@@ -71,6 +72,9 @@ class Model {
   const std::optional<Probe>& probe() const { return probe_; }
   void setContactLaw(const ContactLaw& law) { contact_ = law; }
   const ContactLaw& contactLaw() const { return contact_; }
+  /// Replace each contact element's Hessian by its positive semi-definite part (for solvers;
+  /// off by default so that evaluate() returns the exact Hessian).
+  void setProjectContactHessian(bool on) { projectContact_ = on; }
 
   double energy(const Points& x, EnergyParts* parts = nullptr) const;
   void evaluate(const Points& x, Evaluation& out, bool withHessian) const;
@@ -102,6 +106,7 @@ class Model {
   std::vector<std::pair<int, Vec3>> pointForces_;
   std::optional<Probe> probe_;
   ContactLaw contact_;
+  bool projectContact_ = false;
 
   std::vector<int> triangleVerts_, hingeVerts_;  // flattened element vertex lists
   // Per-thread accumulators of evaluate() (reused; a Model is evaluated by one caller at a time).

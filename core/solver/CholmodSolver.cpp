@@ -1,12 +1,40 @@
 #include "solver/CholmodSolver.h"
 
+#include <Eigen/Dense>
+
 #include <cholmod.h>
 
+#include <dlfcn.h>
+
+#include <algorithm>
 #include <cmath>
+#include <thread>
 #include <cstring>
 #include <stdexcept>
 
 namespace tp {
+
+namespace {
+
+// OpenBLAS's thread count, when the BLAS behind CHOLMOD is OpenBLAS (looked up at run time: the
+// reference BLAS has no such call). Triangular solves with one right-hand side are memory-bound
+// and lose time to thread hand-offs; factorisations gain from threads.
+void setBlasThreads(int n) {
+  using Fn = void (*)(int);
+  static const Fn fn = reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  static int current = -1;
+  if (fn && n != current) {
+    fn(n);
+    current = n;
+  }
+}
+
+int hardwareThreads() {
+  static const int n = std::max(1u, std::thread::hardware_concurrency());
+  return n;
+}
+
+}  // namespace
 
 struct CholmodSolver::Impl {
   cholmod_common common;
@@ -70,6 +98,7 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
     }
   std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
   double beta[2] = {shift, 0.0};
+  setBlasThreads(hardwareThreads());
   const int ok = cholmod_factorize_p(m.A, beta, nullptr, 0, m.L, &m.common);
   if (m.common.status == CHOLMOD_NOT_POSDEF || (ok && m.L->minor < m.L->n)) {
     message_ = "tangent matrix not positive definite (column " + std::to_string(m.L->minor) + ")";
@@ -80,6 +109,7 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
     return Status::Failed;
   }
   m.factored = true;
+  factorFValid_ = false;
   message_.clear();
   return Status::Ok;
 }
@@ -90,10 +120,63 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   const size_t n = m.L->n;
   if (static_cast<size_t>(b.size()) != n) throw std::invalid_argument("CholmodSolver: rhs size");
   std::memcpy(m.B->x, b.data(), sizeof(double) * n);
+  setBlasThreads(1);
   if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common))
     throw std::runtime_error("CHOLMOD: solve failed");
   x.resize(n);
   std::memcpy(x.data(), m.X->x, sizeof(double) * n);
+}
+
+void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  Impl& m = *impl_;
+  if (!m.factored) throw std::logic_error("CholmodSolver::solve without a factorisation");
+  const cholmod_factor* L = m.L;
+  if (!L->is_super || !L->is_ll) {  // not the supernodal LLᵀ this was written for
+    solve(b, x);
+    return;
+  }
+  if (!factorFValid_) {
+    const double* lx = static_cast<const double*>(L->x);
+    factorF_.assign(lx, lx + L->xsize);
+    factorFValid_ = true;
+  }
+  // P A Pᵀ = L Lᵀ with L stored by supernodes: supernode s holds columns super[s]..super[s+1)-1
+  // as a dense column-major block whose rows are s[pi[s]..pi[s+1]), the first of which are those
+  // columns themselves.
+  const int n = static_cast<int>(L->n);
+  const int* perm = static_cast<const int*>(L->Perm);
+  const int* super = static_cast<const int*>(L->super);
+  const int* pi = static_cast<const int*>(L->pi);
+  const int* px = static_cast<const int*>(L->px);
+  const int* rows = static_cast<const int*>(L->s);
+  Eigen::VectorXf y(n), t;
+  for (int k = 0; k < n; ++k) y[k] = static_cast<float>(b[perm[k]]);
+  const int nsuper = static_cast<int>(L->nsuper);
+  for (int s = 0; s < nsuper; ++s) {  // L y = P b
+    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
+    const Eigen::Map<const Eigen::MatrixXf> B(factorF_.data() + px[s], nr, nc);
+    auto yk = y.segment(k1, nc);
+    B.topRows(nc).triangularView<Eigen::Lower>().solveInPlace(yk);
+    if (nr > nc) {
+      t.noalias() = B.bottomRows(nr - nc) * yk;
+      const int* r = rows + pi[s] + nc;
+      for (int i = 0; i < nr - nc; ++i) y[r[i]] -= t[i];
+    }
+  }
+  for (int s = nsuper - 1; s >= 0; --s) {  // Lᵀ z = y
+    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
+    const Eigen::Map<const Eigen::MatrixXf> B(factorF_.data() + px[s], nr, nc);
+    auto yk = y.segment(k1, nc);
+    if (nr > nc) {
+      t.resize(nr - nc);
+      const int* r = rows + pi[s] + nc;
+      for (int i = 0; i < nr - nc; ++i) t[i] = y[r[i]];
+      yk.noalias() -= B.bottomRows(nr - nc).transpose() * t;
+    }
+    B.topRows(nc).triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  }
+  x.resize(n);
+  for (int k = 0; k < n; ++k) x[perm[k]] = y[k];
 }
 
 bool CholmodSolver::factored() const { return impl_->factored; }

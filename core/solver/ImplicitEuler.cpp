@@ -22,6 +22,7 @@ SolveReport ImplicitEulerSolver::solve(Points& x, ForceControl* fc) {
     rep.message = "the implicit-Euler reference solver supports displacement control only";
     return rep;
   }
+  model_.setProjectContactHessian(options_.projectContactHessian);
   const DofMap& dofs = model_.dofs();
   const SparsePattern& pattern = model_.pattern();
   const int n = dofs.freeCount();

@@ -21,44 +21,13 @@ StaticSolver::StaticSolver(Model& model, SolverOptions options)
   if (std::getenv("TP_NEWTON_VERBOSE")) options_.verbose = true;  // debugging aid
 }
 
-double StaticSolver::totalEnergy(const Points& x, const ForceControl* fc, double travel,
-                                 double* magnitude) {
-  EnergyParts parts;
-  double e;
-  if (fc) {
-    Probe p = *model_.probe();
-    p.center = fc->origin + travel * fc->axis;
-    model_.setProbe(p);
-    e = model_.energy(x, &parts) - fc->force * travel;
-    parts.magnitude += std::abs(fc->force * travel);
-  } else {
-    e = model_.energy(x, &parts);
-  }
-  if (magnitude) *magnitude = parts.magnitude;
-  return e;
-}
-
-double StaticSolver::residualNorm(const Points& x, const ForceControl* fc, double travel) {
-  Evaluation e;
-  if (fc) {
-    Probe p = *model_.probe();
-    p.center = fc->origin + travel * fc->axis;
-    model_.setProbe(p);
-  }
-  model_.evaluate(x, e, false);
-  double r2 = 0;
-  for (int dof : model_.dofs().freeDofs()) r2 += e.gradient[dof] * e.gradient[dof];
-  if (fc) r2 += std::pow(fc->axis.dot(e.probeGradient) - fc->force, 2);
-  return std::sqrt(r2);
-}
-
 bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& values,
                        const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol,
                        int& iterations) {
   const double target = relTol * rhs.norm();
   sol.setZero(rhs.size());
   Eigen::VectorXd r = rhs, z, p, q;
-  chol_.solve(r, z);
+  chol_.solveSinglePrecision(r, z);
   p = z;
   double rz = r.dot(z);
   q.resize(rhs.size());
@@ -71,7 +40,7 @@ bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& 
     r -= a * q;
     ++iterations;
     if (r.norm() <= target) return true;
-    chol_.solve(r, z);
+    chol_.solveSinglePrecision(r, z);
     const double rzNew = r.dot(z);
     p = z + (rzNew / rz) * p;
     rz = rzNew;
@@ -85,7 +54,10 @@ double StaticSolver::timeFactorization() {
     analyzedFor_ = &model_.pattern();
     analyzedNnz_ = model_.pattern().nnz();
   }
-  if (static_cast<int>(ev_.hessian.size()) != model_.pattern().nnz()) return 0;
+  if (!ev_.hasHessian) {
+    if (lastX_.cols() != model_.complex().vertexCount()) return 0;
+    model_.evaluate(lastX_, ev_, true);
+  }
   double maxDiag = 0;
   for (int j = 0; j < model_.pattern().n; ++j)
     maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
@@ -110,6 +82,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   const int n = dofs.freeCount();
   const auto& freeDofs = dofs.freeDofs();
   if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
+  model_.setProjectContactHessian(options_.projectContactHessian);
   if (analyzedFor_ != &pattern || analyzedNnz_ != pattern.nnz()) {
     chol_.analyze(pattern);
     analyzedFor_ = &pattern;
@@ -144,26 +117,38 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     return rep;
   };
 
-  for (int it = 0;; ++it) {
+  // Evaluates the model at (x, probe travel); the Hessian only when a Newton direction is needed
+  // (a gradient costs about a tenth of a full assembly, and most load steps converge in one
+  // iteration, so the state they end in never needs its Hessian).
+  auto evaluateAt = [&](const Points& at, double trav, bool withHessian, Evaluation& e) {
     if (fc) {
       Probe p = *model_.probe();
-      p.center = fc->origin + travel * fc->axis;
+      p.center = fc->origin + trav * fc->axis;
       model_.setProbe(p);
     }
-    auto tick = Clock::now();
-    model_.evaluate(x, ev_, true);
-    totals_.assemblySeconds += seconds(tick);
-    rep.energy = ev_.energy.total() - (fc ? fc->force * travel : 0.0);
-    if (!std::isfinite(rep.energy)) return fail("energy is not finite");
+    const auto tick = Clock::now();
+    model_.evaluate(at, e, withHessian);
+    (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
+  };
+  // Energy (with the work of the applied force), residual and load scale of an evaluation.
+  double gs = 0;
+  auto measure = [&](const Evaluation& e, double trav, double& energy, double& residual,
+                     double& loadScale) {
     double loadNorm2 = 0;
     for (int i = 0; i < n; ++i) {
-      g[i] = ev_.gradient[freeDofs[i]];
-      loadNorm2 += ev_.loadGradient[freeDofs[i]] * ev_.loadGradient[freeDofs[i]];
+      g[i] = e.gradient[freeDofs[i]];
+      loadNorm2 += e.loadGradient[freeDofs[i]] * e.loadGradient[freeDofs[i]];
     }
-    double gs = 0;
-    if (fc) gs = fc->axis.dot(ev_.probeGradient) - fc->force;
-    rep.loadScale = std::sqrt(loadNorm2) + (fc ? std::abs(fc->force) : 0.0) + floor;
-    rep.residual = std::sqrt(g.squaredNorm() + gs * gs);
+    gs = fc ? fc->axis.dot(e.probeGradient) - fc->force : 0.0;
+    energy = e.energy.total() - (fc ? fc->force * trav : 0.0);
+    loadScale = std::sqrt(loadNorm2) + (fc ? std::abs(fc->force) : 0.0) + floor;
+    residual = std::sqrt(g.squaredNorm() + gs * gs);
+  };
+
+  Points xt = x;
+  evaluateAt(x, travel, false, ev_);
+  for (int it = 0;; ++it) {
+    measure(ev_, travel, rep.energy, rep.residual, rep.loadScale);
     rep.iterations = it;
     if (options_.verbose)
       std::fprintf(stderr,
@@ -171,9 +156,11 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
                    "factorisations=%d  cg=%d\n",
                    it, rep.energy, rep.residual, rep.relativeResidual(), shift,
                    ev_.contactTriangles, rep.factorizations, rep.pcgIterations);
+    if (!std::isfinite(rep.energy)) return fail("energy is not finite");
     if (!std::isfinite(rep.residual)) return fail("residual is not finite");
     if (rep.residual <= std::max(options_.tolerance * rep.loadScale, noiseFloor)) {
       rep.converged = true;
+      lastX_ = x;
       if (fc) fc->travel = travel;
       lastShift_ = shift;
       return rep;
@@ -184,6 +171,8 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
         << rep.relativeResidual() << ")";
       return fail(s.str());
     }
+    if (!ev_.hasHessian) evaluateAt(x, travel, true, ev_);
+    auto tick = Clock::now();
 
     // Newton direction. First by conjugate gradients preconditioned with the last Cholesky
     // factor (from an earlier iteration or load step: the tangent changes little between them),
@@ -196,10 +185,11 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (fc)
       for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
     bool solved = false;
-    // A factor that needed many CG iterations last time is refactorised straight away rather
-    // than spending another long CG run on it first.
+    // A factor that needed more than refactorAfterPcg CG iterations last time has drifted too
+    // far from the tangent: it is refactorised straight away (one factorisation costs about as
+    // much as 20 CG iterations).
     if (options_.reuseFactorization && chol_.factored() && shift == 0 &&
-        lastPcgIterations_ <= options_.maxPcgIterations / 2) {
+        lastPcgIterations_ <= options_.refactorAfterPcg) {
       // Inexact Newton: solve just accurately enough for this step to reach the tolerance
       // (a tenth of the remaining reduction), never looser than pcgTolerance.
       const double target = std::max(options_.tolerance * rep.loadScale, noiseFloor);
@@ -253,31 +243,29 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
 
     // Backtracking line search on the energy (Armijo). When the energy change is within its
     // round-off (the energy is a sum of terms far larger than their total), a step is judged by
-    // the residual instead, which stays accurate.
+    // the residual instead, which stays accurate. Each trial state is evaluated with its
+    // gradient, so the accepted one needs no new evaluation.
     const double noise = 1e-13 * (ev_.energy.magnitude + (fc ? std::abs(fc->force * travel) : 0.0));
+    const double energy0 = rep.energy, residual0 = rep.residual;
     double alpha = alphaMax;
-    Points xt = x;
     bool accepted = false;
-    tick = Clock::now();
     for (int ls = 0; ls < options_.maxLineSearch; ++ls) {
       xt = x;
       for (int i = 0; i < n; ++i) xt.data()[freeDofs[i]] += alpha * dx[i];
-      const double et = totalEnergy(xt, fc, travel + alpha * ds, nullptr);
-      if (std::isfinite(et) && et <= rep.energy + 1e-4 * alpha * slope) {
-        accepted = true;
-        break;
-      }
-      if (std::isfinite(et) && et <= rep.energy + noise &&
-          residualNorm(xt, fc, travel + alpha * ds) <= 0.9 * rep.residual) {
+      evaluateAt(xt, travel + alpha * ds, false, trial_);
+      double et, rt, lt;
+      measure(trial_, travel + alpha * ds, et, rt, lt);
+      if (std::isfinite(et) && (et <= energy0 + 1e-4 * alpha * slope ||
+                                (et <= energy0 + noise && rt <= 0.9 * residual0))) {
         accepted = true;
         break;
       }
       alpha *= 0.5;
     }
-    totals_.lineSearchSeconds += seconds(tick);
     if (!accepted) return fail("line search failed to decrease the energy");
     x = xt;
     travel += alpha * ds;
+    std::swap(ev_, trial_);
     // A shift that worked is tried smaller next time; full steps suggest it is not needed.
     shift = (alpha == 1.0) ? shift * 0.1 : shift;
     if (shift < 1e-12 * maxDiag) shift = 0;

@@ -30,8 +30,6 @@ class StaticSolver final : public EquilibriumSolver {
 
  private:
   SolveReport solveImpl(Points& x, ForceControl* fc);
-  double totalEnergy(const Points& x, const ForceControl* fc, double travel, double* magnitude);
-  double residualNorm(const Points& x, const ForceControl* fc, double travel);
   bool pcg(const SparsePattern& pattern, const std::vector<double>& values,
            const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol, int& iterations);
 
@@ -40,7 +38,8 @@ class StaticSolver final : public EquilibriumSolver {
   CholmodSolver chol_;
   const SparsePattern* analyzedFor_ = nullptr;
   int analyzedNnz_ = -1;
-  Evaluation ev_;
+  Evaluation ev_, trial_;  // at the current iterate, and at a line-search trial
+  Points lastX_;           // where ev_ was evaluated (for timeFactorization)
   double lastShift_ = 0;
   int lastPcgIterations_ = 0;  // of the last CG solve on the lagged factor
   SolverTotals totals_;
