@@ -5,7 +5,7 @@ namespace tp::gui {
 BusyIndicator::BusyIndicator(QWidget* parent) : QLabel(parent) {
   setObjectName("busyIndicator");
   setTextFormat(Qt::RichText);
-  timer_.setInterval(500);
+  timer_.setInterval(250);
   connect(&timer_, &QTimer::timeout, this, &BusyIndicator::refresh);
 }
 
@@ -13,16 +13,15 @@ void BusyIndicator::setBusy(bool busy, const QString& what) {
   if (busy && !busy_) since_.start();
   busy_ = busy;
   what_ = what;
-  if (busy)
-    timer_.start();
-  else
-    timer_.stop();
-  refresh();
+  // The text follows on the timer only: the busy/idle flips of a probe drag (one per equilibrium)
+  // must not repaint the status bar each time.
+  if (!timer_.isActive()) timer_.start();
 }
 
 void BusyIndicator::refresh() {
   if (!busy_) {
-    setText(QString());
+    timer_.stop();
+    if (!text().isEmpty()) setText(QString());
     return;
   }
   // Seconds shown from the second second on: short solves do not flicker a number.

@@ -1,5 +1,7 @@
 #include "MainWindow.h"
 
+#include "Throttle.h"
+
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
@@ -183,14 +185,19 @@ void MainWindow::wire() {
   SimulationController* c = controller_;
   // Worker results → view, status, plot.
   connect(c, &SimulationController::snapshotReady, view_, &TissueView::setSnapshot);
-  connect(c, &SimulationController::snapshotReady, this, [this](const Snapshot& s) {
+  // The status bar and the plot follow the worker at most five times a second (Throttle.h).
+  auto* probeText = new Throttle(200, [this] {
+    const Snapshot& s = controller_->latest();
     probeLabel_->setText(
         s.probeVisible
             ? tr("depth %1 µm · force %2 µN").arg(s.depth, 0, 'f', 3).arg(s.force, 0, 'g', 4)
             : QString::fromStdString(s.status));
-  });
-  connect(c, &SimulationController::curvesChanged, this,
-          [this] { plot_->setCurves(controller_->curves(), controller_->meanCellSize()); });
+  }, this);
+  connect(c, &SimulationController::snapshotReady, probeText, &Throttle::request);
+  auto* plotUpdate = new Throttle(200, [this] {
+    plot_->setCurves(controller_->curves(), controller_->meanCellSize());
+  }, this);
+  connect(c, &SimulationController::curvesChanged, plotUpdate, &Throttle::request);
   connect(c, &SimulationController::busyChanged, busy_, &BusyIndicator::setBusy);
   connect(c, &SimulationController::statusMessage, this,
           [this](const QString& m) { statusBar()->showMessage(m, 5000); });

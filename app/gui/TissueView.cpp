@@ -30,7 +30,7 @@ TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // hover highlight without a button pressed
   setMinimumSize(320, 240);
-  setFormat(surfaceFormat(4));  // 4× multisampling smooths the outlines
+  setFormat(surfaceFormat(0));  // 4× multisampling smooths the outlines
   depthTimer_.setSingleShot(true);
   depthTimer_.setInterval(40);
   connect(&depthTimer_, &QTimer::timeout, this, [this] {

@@ -168,6 +168,7 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
   out.contactTriangles = 0;
   if (withHessian) out.hessian.assign(pattern_.nnz(), 0.0);
   out.hasHessian = withHessian;
+  out.contactProjected = withHessian && projectContact_;
   double* grad = out.gradient.data();
   double* load = out.loadGradient.data();
   double* vals = withHessian ? out.hessian.data() : nullptr;

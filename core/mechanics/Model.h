@@ -33,6 +33,7 @@ struct Evaluation {
   Eigen::VectorXd loadGradient;  // 3V, the part due to loads (pressure, contact, point forces)
   std::vector<double> hessian;   // values over Model::pattern() (free unknowns, upper triangle)
   bool hasHessian = false;       // hessian (and the probe's second derivatives) were computed
+  bool contactProjected = false; // ... with each contact element's positive part only
   // Probe: derivatives with respect to the sphere's centre p.
   Vec3 probeGradient = Vec3::Zero();  // ∂W/∂p: the force the probe exerts on the tissue (µN)
   Mat3 probeHessian = Mat3::Zero();   // ∂²W/∂p²

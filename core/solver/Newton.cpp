@@ -82,7 +82,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   const int n = dofs.freeCount();
   const auto& freeDofs = dofs.freeDofs();
   if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
-  model_.setProjectContactHessian(options_.projectContactHessian);
+  model_.setProjectContactHessian(false);  // exact tangents; see the factorisation below
   if (analyzedFor_ != &pattern || analyzedNnz_ != pattern.nnz()) {
     chol_.analyze(pattern);
     analyzedFor_ = &pattern;
@@ -171,7 +171,15 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
         << rep.relativeResidual() << ")";
       return fail(s.str());
     }
-    if (!ev_.hasHessian) evaluateAt(x, travel, true, ev_);
+    // The first iteration of a solve uses the positive part of each contact element's Hessian
+    // (the sphere's curvature makes it indefinite: robust, and the lagged factor stays a good
+    // preconditioner); later iterations use the exact tangent, so convergence is quadratic.
+    const bool projectFirst = options_.projectContactHessian && it == 0;
+    if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0)) {
+      model_.setProjectContactHessian(projectFirst);
+      evaluateAt(x, travel, true, ev_);
+      model_.setProjectContactHessian(false);
+    }
     auto tick = Clock::now();
 
     // Newton direction. First by conjugate gradients preconditioned with the last Cholesky
@@ -205,6 +213,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (!solved) {
       tick = Clock::now();
       bool factored = false;
+      bool projected = false;
       for (int attempt = 0; attempt < 40; ++attempt) {
         ++rep.factorizations;
         const auto st = chol_.factorize(ev_.hessian, shift);
@@ -214,6 +223,20 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
         }
         if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed)
           return fail(chol_.lastMessage());
+        // Not positive definite. The usual culprit is the contact: the sphere's curvature makes
+        // its Hessian indefinite. Keep only its positive part for this iteration (an exact
+        // Newton step whenever the true tangent is positive definite, which it is at a stable
+        // equilibrium); then, if needed, shift the diagonal.
+        if (!projected && !ev_.contactProjected && options_.projectContactHessian &&
+            ev_.contactTriangles > 0) {
+          projected = true;
+          model_.setProjectContactHessian(true);
+          evaluateAt(x, travel, true, ev_);
+          model_.setProjectContactHessian(false);
+          if (fc)
+            for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
+          continue;
+        }
         shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
         if (shift > 1e6 * maxDiag) break;
       }

@@ -25,7 +25,8 @@ struct SolverOptions {
   double pcgTolerance = 1e-3;  // loosest relative residual of those CG solves (inexact Newton)
   int maxPcgIterations = 25;   // beyond this the tangent is factorised afresh
   int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations
-  bool projectContactHessian = true;  // use the positive part of each contact element's Hessian
+  bool projectContactHessian = true;  // when the tangent is not positive definite, first retry
+                                      // with the positive part of each contact element's Hessian
   bool verbose = false;        // print one line per iteration to stderr
 
   // Reference solver (implicit Euler, Rayleigh damping, CG), with SOFA's usual settings.
