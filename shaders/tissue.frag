@@ -1,6 +1,7 @@
 #version 330 core
-// Headlight shading, two-sided (a wall is seen from both of its cells), the section plane as a
-// clip half-space, hatching on the clamped base and the hovered cell's walls highlighted.
+// Headlight shading, two-sided (a wall is seen from both of its cells; the section plane is a
+// clip distance in the vertex shader), hatching on the clamped base and the hovered cell's walls
+// highlighted.
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec3 baseColor;
@@ -8,8 +9,6 @@ flat in vec2 wallCells;
 flat in int wallFlags;
 
 uniform vec3 eye;               // µm
-uniform bool clipEnabled;
-uniform vec4 clipPlane;         // keeps the points with dot(n, x) + d >= 0
 uniform float highlightCell;    // dense cell index, -1 = none
 uniform bool uniformColorEnabled;
 uniform vec4 uniformColor;      // the probe: RGBA
@@ -19,7 +18,6 @@ out vec4 fragColor;
 const int kClamped = 1;
 
 void main() {
-  if (clipEnabled && dot(clipPlane.xyz, worldPosition) + clipPlane.w < 0.0) discard;
   vec3 n = normalize(worldNormal);
   vec3 v = normalize(eye - worldPosition);
   if (dot(n, v) < 0.0) n = -n;

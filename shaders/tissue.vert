@@ -9,6 +9,8 @@ layout(location = 4) in float flags;
 
 uniform mat4 viewProjection;
 uniform mat4 model;  // identity for the tissue; translation and uniform scale for the probe
+uniform bool clipEnabled;
+uniform vec4 clipPlane;  // the section: keeps the points with dot(n, x) + d >= 0
 
 out vec3 worldPosition;
 out vec3 worldNormal;
@@ -24,4 +26,7 @@ void main() {
   wallCells = cells;
   wallFlags = int(flags + 0.5);
   gl_Position = viewProjection * world;
+  // A clip distance (enabled with GL_CLIP_DISTANCE0), so hidden fragments still fail the depth
+  // test early, which a discard in the fragment shader would prevent.
+  gl_ClipDistance[0] = clipEnabled ? dot(clipPlane.xyz, world.xyz) + clipPlane.w : 1.0;
 }

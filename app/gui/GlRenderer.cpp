@@ -108,7 +108,7 @@ void GlRenderer::release() {
   for (auto* v : {&wallVao_, &lineVao_, &pointVao_, &sphereVao_, &stemVao_}) v->destroy();
   walls_.reset();
   lines_.reset();
-  wallVertices_ = lineVertices_ = pointVertices_ = 0;
+  wallVertices_ = lineVertices_ = pointVertices_ = outerWallVertices_ = outerLineVertices_ = 0;
   initialized_ = false;
 }
 
@@ -124,6 +124,8 @@ void GlRenderer::upload(const SnapshotBuffers& b) {
   put(pointVbo_, b.clampedPoints());
   wallVertices_ = b.triangleVertexCount();
   lineVertices_ = b.lineVertexCount();
+  outerWallVertices_ = b.outerTriangleVertexCount();
+  outerLineVertices_ = b.outerLineVertexCount();
   pointVertices_ = b.clampedPointCount();
 }
 
@@ -158,7 +160,10 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
   wallVao_.bind();
-  glDrawArrays(GL_TRIANGLES, 0, wallVertices_);
+  // Without a cut only the outer surface can be seen: skip the inner walls behind it. The cut is
+  // a hardware clip distance (not a discard), so hidden fragments fail the depth test early.
+  if (f.clip) glEnable(GL_CLIP_DISTANCE0);
+  glDrawArrays(GL_TRIANGLES, 0, f.clip ? wallVertices_ : outerWallVertices_);
   wallVao_.release();
   glDisable(GL_POLYGON_OFFSET_FILL);
 
@@ -169,7 +174,7 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
   if (f.outlines && lineVertices_ > 0) {
     lines_->setUniformValue("color", QVector4D(0.08f, 0.08f, 0.1f, 1.0f));
     lineVao_.bind();
-    glDrawArrays(GL_LINES, 0, lineVertices_);
+    glDrawArrays(GL_LINES, 0, f.clip ? lineVertices_ : outerLineVertices_);
     lineVao_.release();
   }
   if (f.clampedPoints && pointVertices_ > 0) {
@@ -188,6 +193,7 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
     stemVbo_.bind();
     stemVbo_.allocate(stem, sizeof stem);
     stemVbo_.release();
+    glDisable(GL_CLIP_DISTANCE0);
     lines_->setUniformValue("clipEnabled", false);
     lines_->setUniformValue("color", QVector4D(0.25f, 0.27f, 0.32f, 1.0f));
     stemVao_.bind();
@@ -195,16 +201,12 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
     stemVao_.release();
   }
 
+  glDisable(GL_CLIP_DISTANCE0);
   if (f.probe) {
     // Translucent so that the dent under it stays visible: front faces only, over the walls.
     walls_->bind();
-    QMatrix4x4 model;
-    model.translate(f.probeCenter.x(), f.probeCenter.y(), f.probeCenter.z());
-    model.scale(f.probeRadius);
-    walls_->setUniformValue("model", model);
     walls_->setUniformValue("clipEnabled", false);
     walls_->setUniformValue("uniformColorEnabled", true);
-    walls_->setUniformValue("uniformColor", QVector4D(0.78f, 0.8f, 0.86f, 0.7f));
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glEnable(GL_BLEND);
@@ -214,7 +216,17 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
     glVertexAttrib3f(2, 0, 0, 0);
     glVertexAttrib2f(3, -1, -1);
     glVertexAttrib1f(4, 0);
-    glDrawArrays(GL_TRIANGLES, 0, sphereVertices_);
+    const auto sphere = [&](const Eigen::Vector3f& c, const QVector4D& colour) {
+      QMatrix4x4 model;
+      model.translate(c.x(), c.y(), c.z());
+      model.scale(f.probeRadius);
+      walls_->setUniformValue("model", model);
+      walls_->setUniformValue("uniformColor", colour);
+      glDrawArrays(GL_TRIANGLES, 0, sphereVertices_);
+    };
+    sphere(f.probeCenter, QVector4D(0.78f, 0.8f, 0.86f, 0.7f));
+    if (f.targetCenter && (*f.targetCenter - f.probeCenter).norm() > 1e-3f * f.probeRadius)
+      sphere(*f.targetCenter, QVector4D(0.95f, 0.7f, 0.2f, 0.35f));
     sphereVao_.release();
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);

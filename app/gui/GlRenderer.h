@@ -32,6 +32,9 @@ class GlRenderer : protected QOpenGLExtraFunctions {
     Eigen::Vector3f probeCenter = Eigen::Vector3f::Zero();  // µm
     float probeRadius = 1;                                  // µm
     Eigen::Vector3f probeAxis = -Eigen::Vector3f::UnitZ();  // unit, into the tissue
+    // Where a probe drag has asked the probe to be, ahead of the last equilibrium (µm): drawn
+    // fainter, at once, while the solver catches up.
+    std::optional<Eigen::Vector3f> targetCenter;
     float stemLength = 0;                                   // µm, 0 = no stem
     Eigen::Vector3f background = Eigen::Vector3f(0.97f, 0.97f, 0.98f);
   };
@@ -53,6 +56,7 @@ class GlRenderer : protected QOpenGLExtraFunctions {
   QOpenGLVertexArrayObject wallVao_, lineVao_, pointVao_, sphereVao_, stemVao_;
   QOpenGLBuffer wallVbo_, lineVbo_, pointVbo_, sphereVbo_, stemVbo_;
   int wallVertices_ = 0, lineVertices_ = 0, pointVertices_ = 0, sphereVertices_ = 0;
+  int outerWallVertices_ = 0, outerLineVertices_ = 0;  // the leading part seen without a cut
 };
 
 }  // namespace tp::gui

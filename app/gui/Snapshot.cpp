@@ -2,17 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <tuple>
 #include <utility>
 
 namespace tp::gui {
 
-std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc) {
+std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc, int* outerEdges) {
   // Count each undirected edge within its wall; an edge used once is on the wall's boundary.
   std::vector<std::vector<int>> wallTriangles(cc.walls.size());
   for (int t = 0; t < cc.triangleCount(); ++t) wallTriangles[cc.triangleWall[t]].push_back(t);
-  std::vector<std::pair<int, int>> boundary;
+  // (outer flag inverted, a, b): sorting puts the edges of outer walls first.
+  std::vector<std::tuple<int, int, int>> boundary;
   std::vector<std::pair<int, int>> edges;
-  for (const auto& tris : wallTriangles) {
+  for (size_t w = 0; w < wallTriangles.size(); ++w) {
+    const auto& tris = wallTriangles[w];
+    const int inner = cc.walls[w].neighbor >= 0 ? 1 : 0;
     edges.clear();
     for (int t : tris)
       for (int k = 0; k < 3; ++k) {
@@ -23,19 +28,23 @@ std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc) {
     for (size_t i = 0; i < edges.size();) {
       size_t j = i;
       while (j < edges.size() && edges[j] == edges[i]) ++j;
-      if (j - i == 1) boundary.push_back(edges[i]);
+      if (j - i == 1) boundary.emplace_back(inner, edges[i].first, edges[i].second);
       i = j;
     }
   }
-  // A junction edge bounds several walls: draw it once.
+  // A junction edge bounds several walls: draw it once, as an outer edge if any of them is.
   std::sort(boundary.begin(), boundary.end());
-  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
   std::vector<std::uint32_t> out;
   out.reserve(2 * boundary.size());
-  for (const auto& [a, b] : boundary) {
+  std::set<std::pair<int, int>> seen;
+  int outer = 0;
+  for (const auto& [inner, a, b] : boundary) {
+    if (!seen.insert({a, b}).second) continue;
+    if (!inner) ++outer;
     out.push_back(static_cast<std::uint32_t>(a));
     out.push_back(static_cast<std::uint32_t>(b));
   }
+  if (outerEdges) *outerEdges = outer;
   return out;
 }
 
@@ -67,7 +76,7 @@ std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, 
     g->clampedTriangle[t] = cc.fixed[tri[0]] && cc.fixed[tri[1]] && cc.fixed[tri[2]];
   }
   g->clampedVertex = cc.fixed;
-  g->outlineEdges = wallOutlineEdges(cc);
+  g->outlineEdges = wallOutlineEdges(cc, &g->outerOutlineEdges);
   g->cellLabels = cc.cellLabels;
   g->meanCellSize = cellSize;
   return g;

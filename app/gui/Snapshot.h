@@ -30,7 +30,9 @@ struct TissueGeometry {
   std::vector<std::uint8_t> outer;            // T, 1 = on the outer surface
   std::vector<std::uint8_t> clampedTriangle;  // T, 1 = its three vertices are clamped
   std::vector<std::uint8_t> clampedVertex;    // V, 1 = clamped
-  std::vector<std::uint32_t> outlineEdges;    // 2E vertex indices: boundaries of the walls
+  std::vector<std::uint32_t> outlineEdges;    // 2E vertex indices: boundaries of the walls,
+                                              // those of outer walls first
+  int outerOutlineEdges = 0;                  // how many edges come first
   std::vector<int> cellLabels;                // C, user-facing label of each dense cell
   double meanCellSize = 0;                    // L = cbrt(rest volume / cells), µm (unrefined)
 
@@ -41,7 +43,7 @@ struct TissueGeometry {
 
 /// Edges used by exactly one triangle of their wall (the wall's boundary loops), each listed once
 /// even where several walls meet: the cell outlines to draw. 2E vertex indices.
-std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc);
+std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc, int* outerEdges = nullptr);
 /// L = cbrt(total rest volume / cell count) (µm), 0 without cells.
 double meanCellSize(const CellComplex& cc);
 std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, int generation,

@@ -10,6 +10,7 @@ namespace tp::gui {
 void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map) {
   triangles_.clear();
   lines_.clear();
+  outerTriangleVertices_ = outerLineVertices_ = 0;
   points_.clear();
   bounds_.setEmpty();
   if (s.empty()) return;
@@ -24,7 +25,14 @@ void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map)
   const int T = g.triangleCount();
   triangles_.resize(static_cast<size_t>(T) * 3 * kTriangleStride);
   float* out = triangles_.data();
-  for (int t = 0; t < T; ++t) {
+  std::vector<int> order;  // outer triangles first
+  order.reserve(T);
+  for (int t = 0; t < T; ++t)
+    if (g.outer[t]) order.push_back(t);
+  outerTriangleVertices_ = 3 * static_cast<int>(order.size());
+  for (int t = 0; t < T; ++t)
+    if (!g.outer[t]) order.push_back(t);
+  for (int t : order) {
     const Eigen::Vector3f a = vertex(g.triangles[3 * t]), b = vertex(g.triangles[3 * t + 1]),
                           c = vertex(g.triangles[3 * t + 2]);
     Eigen::Vector3f n = (b - a).cross(c - a);
@@ -45,6 +53,7 @@ void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map)
   }
 
   lines_.reserve(g.outlineEdges.size() * 3);
+  outerLineVertices_ = 2 * g.outerOutlineEdges;
   for (std::uint32_t v : g.outlineEdges) {
     const Eigen::Vector3f p = vertex(v);
     lines_.insert(lines_.end(), {p.x(), p.y(), p.z()});

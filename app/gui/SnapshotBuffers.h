@@ -26,7 +26,11 @@ class SnapshotBuffers {
   /// Rebuilds every array from the snapshot (empty snapshot: empty arrays).
   void build(const Snapshot& snapshot, Field field, const ColorMap& map);
 
+  /// Outer-surface triangles come first: when nothing cuts the tissue only they can be seen
+  /// (the outer surface is closed), so the renderer draws just them.
   const std::vector<float>& triangleVertices() const { return triangles_; }
+  int outerTriangleVertexCount() const { return outerTriangleVertices_; }
+  int outerLineVertexCount() const { return outerLineVertices_; }
   int triangleVertexCount() const { return static_cast<int>(triangles_.size()) / kTriangleStride; }
   const std::vector<float>& lineVertices() const { return lines_; }
   int lineVertexCount() const { return static_cast<int>(lines_.size()) / kLineStride; }
@@ -37,6 +41,7 @@ class SnapshotBuffers {
 
  private:
   std::vector<float> triangles_, lines_, points_;
+  int outerTriangleVertices_ = 0, outerLineVertices_ = 0;
   Eigen::AlignedBox3d bounds_;
 };
 

@@ -87,6 +87,8 @@ void TissueView::setSnapshot(const Snapshot& s) {
   const bool newTissue = !s.empty() && (snapshot_.empty() || s.phase == Snapshot::Phase::Rest ||
                                         QString::fromStdString(s.geometry->path) != lastPath_);
   snapshot_ = s;
+  if (!s.probeVisible || (drag_ != Drag::Depth && std::abs(s.depth - targetDepth_) < 1e-6))
+    targetDepth_ = -1;
   buffersDirty_ = true;
   pickerDirty_ = true;
   if (!s.empty()) {
@@ -101,6 +103,12 @@ void TissueView::setSnapshot(const Snapshot& s) {
     if (newTissue) camera_.reset();
   }
   updateRange();
+  update();
+}
+
+void TissueView::clearTarget() {
+  if (targetDepth_ < 0) return;
+  targetDepth_ = -1;
   update();
 }
 
@@ -294,13 +302,13 @@ void TissueView::mouseMoveEvent(QMouseEvent* e) {
       camera_.pan({double(lastPos_.x()), double(lastPos_.y())}, {double(pos.x()), double(pos.y())});
       break;
     case Drag::Depth: {
-      // Down presses in: a hundred pixels per probe radius, whatever the zoom. Nothing to redraw
-      // until the worker sends the equilibrium.
+      // Down presses in: a hundred pixels per probe radius, whatever the zoom. The probe's
+      // target follows the mouse at once; the tissue follows as the worker sends equilibria.
       const double umPerPixel = std::max(snapshot_.probeRadius, 0.1) / 100.0;
       pendingDepth_ = std::max(0.0, dragStartDepth_ + (pos.y() - pressPos_.y()) * umPerPixel);
+      targetDepth_ = pendingDepth_;
       if (!depthTimer_.isActive()) depthTimer_.start();
-      lastPos_ = pos;
-      return;
+      break;
     }
     case Drag::None:
       break;
@@ -399,6 +407,9 @@ GlRenderer::Frame TissueView::frame(const Camera& cam) const {
   f.probeCenter = snapshot_.probeCenter().cast<float>();
   f.probeRadius = float(snapshot_.probeRadius);
   f.probeAxis = snapshot_.axis.cast<float>();
+  if (snapshot_.probeVisible && targetDepth_ >= 0)
+    f.targetCenter = (snapshot_.probeCenter() + (targetDepth_ - snapshot_.depth) * snapshot_.axis)
+                         .cast<float>();
   // The probe's stem (the cantilever's direction) keeps the site visible from afar.
   const double extent =
       snapshot_.empty() ? 1.0 : 0.5 * boundsOf(snapshot_.positions).diagonal().norm();
@@ -429,9 +440,12 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
     p.setFont(font);
     p.setPen(QColor(20, 20, 20));
     p.drawText(area.adjusted(10 * scale, 8 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop,
-               tr("depth %1 µm   force %2 µN")
+               tr("depth %1 µm   force %2 µN%3")
                    .arg(snapshot_.depth, 0, 'f', 3)
-                   .arg(snapshot_.force, 0, 'g', 4));
+                   .arg(snapshot_.force, 0, 'g', 4)
+                   .arg(targetDepth_ >= 0 && std::abs(targetDepth_ - snapshot_.depth) > 5e-4
+                            ? tr("   → %1 µm").arg(targetDepth_, 0, 'f', 3)
+                            : QString()));
   }
 }
 

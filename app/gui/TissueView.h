@@ -60,6 +60,11 @@ class TissueView : public QOpenGLWidget {
   void setPlaceholder(const QString& text);
   /// The depth a probe drag starts from (µm).
   void setRequestedDepth(double depth) { requestedDepth_ = depth; }
+  /// The depth a probe drag has asked for and the view shows ahead of the equilibria (µm), or
+  /// −1 once an equilibrium has reached it.
+  double targetDepth() const { return targetDepth_; }
+  /// Forgets the target (a solve failed: the last good state is what there is).
+  void clearTarget();
   void fitToView();
   void setStandardView(tp::gui::Camera::StandardView view);
   void resetView();
@@ -123,6 +128,7 @@ class TissueView : public QOpenGLWidget {
   // per equilibrium anyway, and fewer updates of the depth controls leave it more CPU.
   QTimer depthTimer_;
   double pendingDepth_ = -1;
+  double targetDepth_ = -1;
   int frames_ = 0;
   QString lastPath_;
   QString placeholder_;

@@ -41,6 +41,23 @@ class BuffersTest : public QObject {
       const Eigen::Vector3d d = cc.rest.col(edges[i]) - cc.rest.col(edges[i + 1]);
       QVERIFY(std::abs(d.norm() - 5.0) < 1e-12);  // cube edges, not diagonals (7.07)
     }
+    // Outer edges first: all 20 edges of two cubes side by side lie on the outer surface, the
+    // shared square's 4 included; inner edges only exist where a wall is inner all round.
+    int outer = -1;
+    QCOMPARE(wallOutlineEdges(cc, &outer), edges);
+    QCOMPARE(outer, 20);
+    const tp::CellComplex row = tp::boxTissue(3, 3, 3, 5.0);
+    const auto all = wallOutlineEdges(row, &outer);
+    const int E = int(all.size()) / 2;
+    QVERIFY(outer > 0 && outer < E);
+    // An edge listed as inner touches no outer wall: its two vertices are not both on the box.
+    const auto onBox = [&](int v) {
+      const Eigen::Vector3d p = row.rest.col(v);
+      return (p.array().abs() < 1e-9).any() || ((p.array() - 15).abs() < 1e-9).any();
+    };
+    for (int e = outer; e < E; ++e)
+      QVERIFY(!(onBox(all[2 * e]) && onBox(all[2 * e + 1])));
+    for (int e = 0; e < outer; ++e) QVERIFY(onBox(all[2 * e]) && onBox(all[2 * e + 1]));
   }
 
   void sizesColoursAndAttributes() {
@@ -59,10 +76,20 @@ class BuffersTest : public QObject {
     QCOMPARE(b.clampedPointCount(), clamped);
     QVERIFY((b.bounds().max() - Eigen::Vector3d(10, 5, 5)).norm() < 1e-6);
 
-    for (int t = 0; t < T; ++t) {
+    // Outer triangles first (in their order), then the inner ones: without a section plane the
+    // renderer draws only the first outerTriangleVertexCount() vertices.
+    std::vector<int> order;
+    for (int t = 0; t < T; ++t)
+      if (cc.isOuterTriangle(t)) order.push_back(t);
+    QCOMPARE(b.outerTriangleVertexCount(), 3 * int(order.size()));
+    QVERIFY(int(order.size()) < T);  // the shared face is inner
+    for (int t = 0; t < T; ++t)
+      if (!cc.isOuterTriangle(t)) order.push_back(t);
+    for (int i = 0; i < T; ++i) {
+      const int t = order[i];
       const Eigen::Vector3f expected = map.color(t);
-      for (int k = 0; k < 3; ++k) QVERIFY((colourOf(b, 3 * t + k) - expected).norm() < 1e-6f);
-      const float* v = b.triangleVertices().data() + 3 * t * SnapshotBuffers::kTriangleStride;
+      for (int k = 0; k < 3; ++k) QVERIFY((colourOf(b, 3 * i + k) - expected).norm() < 1e-6f);
+      const float* v = b.triangleVertices().data() + 3 * i * SnapshotBuffers::kTriangleStride;
       // Position = the triangle's first corner; a unit normal; the wall's cells; the flags.
       const auto& tri = cc.triangles[t];
       QVERIFY(std::abs(v[0] - cc.rest(0, tri[0])) < 1e-6f);
@@ -76,8 +103,11 @@ class BuffersTest : public QObject {
       QCOMPARE(bool(flags & SnapshotBuffers::kOuter), cc.isOuterTriangle(t));
     }
     // The ends of the map at the ends of the range.
-    QVERIFY((colourOf(b, 0) - map.colorAt(0)).norm() < 1e-6f);
-    QVERIFY((colourOf(b, 3 * (T - 1)) - map.colorAt(1)).norm() < 1e-6f);
+    const auto at = [&](int t) {
+      return int(std::find(order.begin(), order.end(), t) - order.begin());
+    };
+    QVERIFY((colourOf(b, 3 * at(0)) - map.colorAt(0)).norm() < 1e-6f);
+    QVERIFY((colourOf(b, 3 * at(T - 1)) - map.colorAt(1)).norm() < 1e-6f);
   }
 
   void anotherFieldAnotherColour() {
