@@ -1,5 +1,7 @@
 #include "MainWindow.h"
 
+#include <qcustomplot.h>
+
 #include "Throttle.h"
 
 #include <QAction>
@@ -197,10 +199,25 @@ void MainWindow::wire() {
   auto* plotUpdate = new Throttle(200, [this] {
     plot_->setCurves(controller_->curves(), controller_->meanCellSize());
   }, this);
-  connect(c, &SimulationController::curvesChanged, plotUpdate, &Throttle::request);
+  // Points added during a drag or a run wait for the throttle; a curve added, removed or cleared,
+  // or any change while the worker is idle, is shown at once, and whatever is pending is shown
+  // when the worker goes idle.
+  connect(c, &SimulationController::curvesChanged, plotUpdate, [this, plotUpdate] {
+    if (!controller_->busy() ||
+        plot_->plot()->graphCount() != static_cast<int>(controller_->curves().size()))
+      plotUpdate->now();
+    else
+      plotUpdate->request();
+  });
   connect(c, &SimulationController::busyChanged, busy_, &BusyIndicator::setBusy);
+  connect(c, &SimulationController::busyChanged, this, [plotUpdate, probeText](bool busy) {
+    if (busy) return;
+    plotUpdate->flush();
+    probeText->flush();
+  });
   connect(c, &SimulationController::statusMessage, this,
           [this](const QString& m) { statusBar()->showMessage(m, 5000); });
+  connect(c, &SimulationController::solveFailed, view_, &TissueView::clearTarget);
   connect(c, &SimulationController::solveFailed, this, [this](const QString& m) {
     statusBar()->showMessage(tr("Not converged: %1").arg(m), 15000);
   });

@@ -23,6 +23,8 @@ void Throttle::flush() {
   if (pending_) fire();
 }
 
+void Throttle::now() { fire(); }
+
 void Throttle::fire() {
   pending_ = false;
   timer_.start();  // the next call waits for the interval

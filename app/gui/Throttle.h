@@ -20,6 +20,8 @@ class Throttle : public QObject {
   void request();
   /// Runs a pending action at once (e.g. when a drag ends).
   void flush();
+  /// Runs the action at once whether or not one is pending (a change the user must see now).
+  void now();
 
  private:
   void fire();

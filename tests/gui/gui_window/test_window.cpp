@@ -178,6 +178,8 @@ class WindowTest : public QObject {
     sendMouse(view_, QEvent::MouseButtonPress, start, Qt::RightButton, Qt::RightButton);
     for (int i = 1; i <= 12; ++i) {
       sendMouse(view_, QEvent::MouseMove, start + QPoint(0, 5 * i), Qt::NoButton, Qt::RightButton);
+      // The probe's target follows the mouse at once, ahead of the equilibria.
+      QVERIFY(std::abs(view_->targetDepth() - 0.05 * i) < 1e-9);
       QTest::qWait(40);
     }
     sendMouse(view_, QEvent::MouseButtonRelease, start + QPoint(0, 60), Qt::RightButton,
@@ -185,6 +187,7 @@ class WindowTest : public QObject {
     QVERIFY(std::abs(w_->parameterPanel()->depth() - 0.6) < 1e-9);
     QTRY_VERIFY_WITH_TIMEOUT(std::abs(c_->latest().depth - 0.6) < 1e-9, 120000);
     waitIdle();
+    QCOMPARE(view_->targetDepth(), -1.0);  // reached
     QVERIFY(view_->frameCount() > frames);
     const Snapshot& s = c_->latest();
     QVERIFY2(s.force > 0, qPrintable(QString("force %1 µN").arg(s.force)));
@@ -289,14 +292,20 @@ class WindowTest : public QObject {
     for (int i = 1; i < 4; ++i) QVERIFY(run.points[i].force > run.points[i - 1].force);
     QCOMPARE(w_->plotPanel()->plot()->graphCount(), curves + 1);
 
-    s.steps = 100;
+    // Enough steps that the run cannot finish while the key press travels (each step of the
+    // small tissue takes milliseconds): cancelled, the curve stops short and says so.
+    s.steps = 2000;
     c_->setSchedule(s);
     QSignalSpy progress(c_, &SimulationController::runProgress);
+    QSignalSpy messages(c_, &SimulationController::statusMessage);
     QTest::keyClick(view_, Qt::Key_Space);
     QTRY_VERIFY_WITH_TIMEOUT(progress.count() >= 1, 60000);
     QTest::keyClick(view_, Qt::Key_Escape);  // Cancel
     waitIdle();
-    QVERIFY(c_->curves().back().points.size() < 50);
+    QVERIFY(c_->curves().back().points.size() < 1000);
+    bool stopped = false;
+    for (const auto& m : messages) stopped |= m.at(0).toString().contains("stopped");
+    QVERIFY(stopped);
   }
 
   void exportsAreWrittenAndReadBack() {
