@@ -31,11 +31,13 @@ TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
   setMouseTracking(true);  // hover highlight without a button pressed
   setMinimumSize(320, 240);
   setFormat(surfaceFormat(0));  // 4× multisampling smooths the outlines
+  // A fallback only: depth requests are paced by the equilibria coming back (setSnapshot), and
+  // this sends the pending one should a request bring no snapshot.
   depthTimer_.setSingleShot(true);
-  depthTimer_.setInterval(40);
+  depthTimer_.setInterval(300);
   connect(&depthTimer_, &QTimer::timeout, this, [this] {
-    if (pendingDepth_ >= 0) emit depthRequested(pendingDepth_);
-    pendingDepth_ = -1;
+    awaitingSnapshot_ = false;
+    sendPendingDepth();
   });
   setToolTip(
       tr("Left drag: turn · Shift+left or middle drag: pan · Wheel: zoom\n"
@@ -87,7 +89,9 @@ void TissueView::setSnapshot(const Snapshot& s) {
   const bool newTissue = !s.empty() && (snapshot_.empty() || s.phase == Snapshot::Phase::Rest ||
                                         QString::fromStdString(s.geometry->path) != lastPath_);
   snapshot_ = s;
-  if (!s.probeVisible || (drag_ != Drag::Depth && std::abs(s.depth - targetDepth_) < 1e-6))
+  awaitingSnapshot_ = false;
+  if (drag_ == Drag::Depth) sendPendingDepth();  // the solver is free: the newest depth
+  if (!s.probeVisible || std::abs(s.depth - targetDepth_) < 1e-6)
     targetDepth_ = -1;
   buffersDirty_ = true;
   pickerDirty_ = true;
@@ -104,6 +108,15 @@ void TissueView::setSnapshot(const Snapshot& s) {
   }
   updateRange();
   update();
+}
+
+void TissueView::sendPendingDepth() {
+  if (pendingDepth_ < 0) return;
+  awaitingSnapshot_ = true;
+  depthTimer_.start();
+  const double depth = pendingDepth_;
+  pendingDepth_ = -1;
+  emit depthRequested(depth);
 }
 
 void TissueView::clearTarget() {
@@ -307,7 +320,9 @@ void TissueView::mouseMoveEvent(QMouseEvent* e) {
       const double umPerPixel = std::max(snapshot_.probeRadius, 0.1) / 100.0;
       pendingDepth_ = std::max(0.0, dragStartDepth_ + (pos.y() - pressPos_.y()) * umPerPixel);
       targetDepth_ = pendingDepth_;
-      if (!depthTimer_.isActive()) depthTimer_.start();
+      // One request at a time: the next leaves when this one's equilibrium comes back, so the
+      // solver always works on the newest depth and never waits for a timer.
+      if (!awaitingSnapshot_) sendPendingDepth();
       break;
     }
     case Drag::None:
@@ -334,9 +349,9 @@ void TissueView::mouseReleaseEvent(QMouseEvent* e) {
     }
   }
   if (drag_ == Drag::Depth && pendingDepth_ >= 0) {  // the drag's last depth, now
+    sendPendingDepth();
     depthTimer_.stop();
-    emit depthRequested(pendingDepth_);
-    pendingDepth_ = -1;
+    awaitingSnapshot_ = false;
   }
   drag_ = Drag::None;
   e->accept();

@@ -99,6 +99,7 @@ class TissueView : public QOpenGLWidget {
   GlRenderer::Frame frame(const Camera& camera) const;
   void paintOverlay(QPainter& painter, const QSize& size, double scale) const;
   void ensurePicker() const;
+  void sendPendingDepth();
   double sectionPosition() const;
 
   Camera camera_;
@@ -124,11 +125,10 @@ class TissueView : public QOpenGLWidget {
   QPoint pressPos_, lastPos_;
   bool moved_ = false;
   double requestedDepth_ = 0, dragStartDepth_ = 0;
-  // Depth requests during a drag leave at most every 40 ms: the solver needs longer than that
-  // per equilibrium anyway, and fewer updates of the depth controls leave it more CPU.
   QTimer depthTimer_;
   double pendingDepth_ = -1;
   double targetDepth_ = -1;
+  bool awaitingSnapshot_ = false;  // a depth request has left and its equilibrium is not back
   int frames_ = 0;
   QString lastPath_;
   QString placeholder_;
