@@ -371,6 +371,7 @@ class PlyReader {
     else if (find(fe, "neighbor") >= 0)
       info.notes.push_back("faces have 'neighbor' but no cell labels: 'neighbor' ignored");
     use(fe, find(fe, "wall"), Role::Wall, false);
+    if (!labelled_) findVolumes(info, find);
     for (Role r : fe.roles) {
       hasNeighbor_ = hasNeighbor_ || r == Role::Neighbor;
       hasWall_ = hasWall_ || r == Role::Wall;
@@ -398,8 +399,44 @@ class PlyReader {
         if (e->roles[k] == Role::Ignore)
           info.ignoredProperties.push_back(e->name + "." + e->properties[k].name);
     }
-    for (const Element& e : elements_)
-      if (e.name != "vertex" && e.name != "face") info.ignoredElements.push_back(e.name);
+    for (int i = 0; i < static_cast<int>(elements_.size()); ++i)
+      if (i != vertexElement_ && i != faceElement_ && i != volumeElement_)
+        info.ignoredElements.push_back(elements_[i].name);
+  }
+
+  // openalea (PropertyTopomesh PLY): an element `volume` per cell, a list `face_index` of its
+  // faces and an integer `label`. Used for the cells when the faces carry no labels.
+  template <class Find>
+  void findVolumes(PlyInfo& info, Find&& find) {
+    for (int i = 0; i < static_cast<int>(elements_.size()); ++i) {
+      const Element& e = elements_[i];
+      if (e.name != "volume") continue;
+      int faces = find(e, "face_index");
+      if (faces < 0) faces = find(e, "face_indices");
+      const int label = find(e, "label");
+      if (faces < 0 || label < 0 || !e.properties[faces].isList || e.properties[label].isList) {
+        info.notes.push_back("element 'volume' has no list 'face_index' and integer 'label': "
+                             "not used for cell labels");
+        return;
+      }
+      // Every value up to the last one used must be readable (in binary, every value).
+      const int last = format_ == Format::Ascii ? std::max(faces, label)
+                                                : static_cast<int>(e.properties.size()) - 1;
+      for (int k = 0; k <= last; ++k)
+        if (!e.properties[k].knownType()) {
+          info.notes.push_back("element 'volume': property '" + e.properties[k].name +
+                               "' has type " + quoted(e.properties[k].typeText) +
+                               ", not a PLY type, so the cells' faces cannot be read");
+          return;
+        }
+      volumeElement_ = i;
+      volumeFaces_ = faces;
+      volumeLabel_ = label;
+      labelled_ = true;
+      info.hadCellLabels = true;
+      info.cellProperty = "volume.label";
+      return;
+    }
   }
 
   // --- data -----------------------------------------------------------------------------------
@@ -409,7 +446,8 @@ class PlyReader {
     for (Element& e : elements_) {
       elem_ = &e;
       index_ = 0;
-      const bool used = &e == &elements_[vertexElement_] || &e == &elements_[faceElement_];
+      const bool used = &e == &elements_[vertexElement_] || &e == &elements_[faceElement_] ||
+                        (volumeElement_ >= 0 && &e == &elements_[volumeElement_]);
       if (!used && format_ != Format::Ascii && !e.allKnown()) {
         // Its instance size is unknown: nothing after it can be reached.
         if (haveVertices && haveFaces) {
@@ -426,11 +464,14 @@ class PlyReader {
       } else if (&e == &elements_[faceElement_]) {
         readFaces(e);
         haveFaces = true;
+      } else if (volumeElement_ >= 0 && &e == &elements_[volumeElement_]) {
+        readVolumes(e);
       } else {
         skipElement(e);
       }
     }
     elem_ = nullptr;
+    if (volumeElement_ >= 0) applyVolumes(info);
     if (pos_ < data_.size()) {
       const bool onlySpace = format_ == Format::Ascii &&
                              data_.find_first_not_of(" \t\r\n\v\f", pos_) == std::string::npos;
@@ -633,6 +674,70 @@ class PlyReader {
     }
   }
 
+  // One cell per instance: its label and the indices of its faces.
+  void readVolumes(const Element& e) {
+    const std::uint64_t faceCount = elements_[faceElement_].count;
+    for (index_ = 0; index_ < e.count; ++index_) {
+      beginInstance();
+      Volume v;
+      v.where = where();
+      bool wholeLine = true;
+      for (int k = 0; k < static_cast<int>(e.properties.size()); ++k) {
+        const Property& p = e.properties[k];
+        if (!p.knownType()) {  // ASCII only, after the used properties (checked in the header)
+          wholeLine = false;
+          break;
+        }
+        if (k == volumeLabel_) {
+          v.label = integral(value(p, p.type, true), "cell label");
+          if (v.label < 0) failAt("cell label " + str(v.label) + " is negative");
+        } else if (k == volumeFaces_) {
+          const std::uint64_t n = listCount(p);
+          if (n > faceCount)
+            failAt("a cell with " + str(n) + " faces, but the file has only " + str(faceCount));
+          for (std::uint64_t j = 0; j < n; ++j) {
+            const double f = value(p, p.type, true);
+            if (!(f >= 0 && f < static_cast<double>(faceCount) && f == std::floor(f)))
+              failAt("face index " + str(f) + " out of range (the file has " + str(faceCount) +
+                     " faces)");
+            v.faces.push_back(static_cast<int>(f));
+          }
+        } else if (p.isList) {
+          skipList(p, listCount(p));
+        } else {
+          value(p, p.type, false);
+        }
+      }
+      endInstance(wholeLine);
+      volumes_.push_back(std::move(v));
+    }
+  }
+
+  // A face listed by one volume has it as its cell, by two: cell and neighbour (the face's
+  // winding then says nothing of which is which; the first volume is taken as the cell).
+  void applyVolumes(PlyInfo& info) {
+    int empty = 0;
+    for (const Volume& v : volumes_) {
+      if (v.faces.empty()) ++empty;
+      for (int f : v.faces) {
+        int& c = faces_.cell[f];
+        int& n = faces_.neighbor[f];
+        if (c == v.label || n == v.label) continue;
+        if (c < 0) {
+          c = v.label;
+        } else if (n < 0) {
+          n = v.label;
+          hasNeighbor_ = true;
+        } else {
+          fail(v.where + ": face " + str(f) + " is already a wall of cells " + str(c) + " and " +
+               str(n) + "; it cannot also bound cell " + str(v.label));
+        }
+      }
+    }
+    if (empty)
+      info.notes.push_back(str(empty) + " volume(s) with no faces (cells without a wall) ignored");
+  }
+
   void skipElement(const Element& e) {
     if (e.properties.empty()) return;  // such instances occupy nothing
     if (format_ == Format::Ascii) {
@@ -680,6 +785,13 @@ class PlyReader {
   bool swap_ = false;
   std::vector<Element> elements_;
   int vertexElement_ = -1, faceElement_ = -1, vertexCount_ = 0;
+  int volumeElement_ = -1, volumeFaces_ = -1, volumeLabel_ = -1;  // openalea cells
+  struct Volume {
+    int label = -1;
+    std::vector<int> faces;
+    std::string where;  // for messages
+  };
+  std::vector<Volume> volumes_;
   bool labelled_ = false, hasNeighbor_ = false, hasWall_ = false;
   const Element* elem_ = nullptr;  // element being read, for messages
   std::uint64_t index_ = 0;        // its instance being read

@@ -6,6 +6,9 @@
 //  - `element face`: a list `vertex_indices` (or `vertex_index`), polygons allowed; optional
 //    integer `cell`, `neighbor` and `wall`. MorphoGraphX names the cell of a face `label`; it is
 //    used as the cell when there is no `cell` property.
+//  - `element volume` (openalea PropertyTopomesh): without face labels, a list `face_index` and
+//    an integer `label` per cell give the cells: a face listed by one volume has it as its cell,
+//    by two as cell and neighbor.
 // How faces become walls and cells:
 //  - With cell labels: a face's right-hand normal points out of `cell` into `neighbor` (labels;
 //    any negative value = none; without a `neighbor` property every face has none unless its
@@ -46,7 +49,7 @@ struct PlyInfo {
   std::vector<std::string> ignoredElements;    // e.g. "edge", "volume"
   std::vector<std::string> ignoredProperties;  // "element.property", e.g. "vertex.signal"
   bool hadCellLabels = false;                  // faces carried `cell` (or `label`)
-  std::string cellProperty;                    // "cell", "label" or empty
+  std::string cellProperty;                    // "cell", "label", "volume.label" or empty
   std::vector<std::string> notes;              // merged duplicates, reversed winding, ...
 };
 

@@ -365,6 +365,34 @@ TEST(PlyRead, MorphoGraphXStyleLabelsAndNames) {
   EXPECT_EQ(cc.walls[1].cell, 1);
 }
 
+// openalea's PropertyTopomesh PLY: faces without labels, one `volume` per cell listing its faces.
+const std::string kTopomesh =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 3\nproperty list uchar int vertex_indices\n"
+    "property int epidermis\nelement volume 3\nproperty list int int face_index\n"
+    "property int label\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+    "3 0 1 2 1\n3 0 1 3 1\n3 0 2 3 0\n"
+    "2 0 2 5\n0 11\n2 1 2 8\n";  // lines 21-23: face 2 bounds cells 5 and 8; 11 is empty
+
+TEST(PlyRead, OpenAleaVolumesGiveTheCells) {
+  PlyInfo info;
+  const CellComplex cc = readString(kTopomesh, &info);
+  EXPECT_TRUE(info.hadCellLabels);
+  EXPECT_EQ(info.cellProperty, "volume.label");
+  EXPECT_TRUE(info.ignoredElements.empty());
+  EXPECT_THAT(info.notes, Contains(HasSubstr("1 volume(s) with no faces")));
+  EXPECT_EQ(cc.cellLabels, (std::vector<int>{5, 8}));
+  ASSERT_EQ(cc.triangleCount(), 3);
+  const auto cellsOf = [&](int t) {
+    const Wall& w = cc.walls[cc.triangleWall[t]];
+    return std::pair(w.cell, w.neighbor);
+  };
+  EXPECT_EQ(cellsOf(0), std::pair(0, -1));
+  EXPECT_EQ(cellsOf(1), std::pair(1, -1));
+  EXPECT_EQ(cellsOf(2), std::pair(0, 1));  // listed by both: a wall between them
+}
+
 TEST(PlyRead, ExtraElementsListsAndUnknownTypesAreReadPast) {
   const std::string text =
       "ply\nformat ascii 1.0\nobj_info made by hand\nelement vertex 3\nproperty float32 x\n"
@@ -417,6 +445,17 @@ TEST(PlyErrors, TheValidTriangleReads) {
   const CellComplex cc = readString(kTriangle);
   EXPECT_EQ(cc.triangleCount(), 1);
   EXPECT_EQ(cc.cellCount(), 0);
+}
+
+TEST(PlyErrors, OpenAleaVolumesAreChecked) {
+  EXPECT_THAT(plyError(replaceLine(kTopomesh, 23, "2 1 7 8")),
+              AllOf(HasSubstr("bad.ply: line 23"), HasSubstr("face index 7 out of range")));
+  EXPECT_THAT(plyError(replaceLine(kTopomesh, 22, "1 2 11")),
+              AllOf(HasSubstr("bad.ply: line 23"),
+                    HasSubstr("face 2 is already a wall of cells 5 and 11"),
+                    HasSubstr("cannot also bound cell 8")));
+  EXPECT_THAT(plyError(replaceLine(kTopomesh, 21, "2 0 2 -5")),
+              AllOf(HasSubstr("line 21"), HasSubstr("cell label -5 is negative")));
 }
 
 TEST(PlyErrors, MissingCoordinate) {
