@@ -90,13 +90,16 @@ void BM_EquilibriumStep(benchmark::State& state) {
 }
 
 // A whole 50-step loading curve to a depth of 10 % of a cell size (turgid state and placement
-// excluded: they are solved before the clock starts).
-void curve(benchmark::State& state, SolverKind kind) {
+// excluded: they are solved before the clock starts). `predictor`: each step starts from the
+// polynomial through the last equilibria (ours) or from the last equilibrium with the probe moved
+// (the published method).
+void curve(benchmark::State& state, SolverKind kind, bool predictor) {
   auto cc = refinedMeristem(static_cast<int>(state.range(0)));
   const double cell = cellSize(*refinedMeristem(0));
   IndentationSettings settings;
   settings.maxDepth = 0.1 * cell;
   settings.steps = 50;
+  settings.predictor = predictor;
   SolverOptions options;
   options.kind = kind;
   double force = 0;
@@ -132,8 +135,19 @@ void curve(benchmark::State& state, SolverKind kind) {
   state.counters["gradients_s"] = spent.lineSearchSeconds;
 }
 
-void BM_LoadingCurve(benchmark::State& state) { curve(state, SolverKind::Newton); }
-void BM_ReferenceCurve(benchmark::State& state) { curve(state, SolverKind::ImplicitEulerCG); }
+void BM_LoadingCurve(benchmark::State& state) { curve(state, SolverKind::Newton, true); }
+// The published method: implicit Euler + CG relaxed to rest from the last equilibrium.
+void BM_ReferenceCurve(benchmark::State& state) {
+  curve(state, SolverKind::ImplicitEulerCG, false);
+}
+// What each half of the difference is worth: Newton without the predictor, and the reference
+// with it.
+void BM_LoadingCurveNoPredictor(benchmark::State& state) {
+  curve(state, SolverKind::Newton, false);
+}
+void BM_ReferenceCurveWithPredictor(benchmark::State& state) {
+  curve(state, SolverKind::ImplicitEulerCG, true);
+}
 
 }  // namespace
 
@@ -147,5 +161,7 @@ BENCHMARK(BM_ReferenceCurve)
     ->DenseRange(0, std::getenv("TP_BENCH_ALL") ? 3 : 1)
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
+BENCHMARK(BM_LoadingCurveNoPredictor)->Arg(0)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_ReferenceCurveWithPredictor)->Arg(0)->Iterations(1)->Unit(benchmark::kSecond);
 
 BENCHMARK_MAIN();

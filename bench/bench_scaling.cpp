@@ -3,7 +3,7 @@
 // 183k, 800k unknowns — a level multiplies the unknowns by about five, not four, because the
 // junction edges of the cell complex are shared by three walls), time per equilibrium
 // (warm-started depth steps of 1 % of a cell size) and peak memory.
-// bench/fit_exponent.py fits time ∝ unknowns^k to the JSON output (see bench/README.md).
+// bench/report.py fits time ∝ unknowns^k to the JSON output (see bench/README.md).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

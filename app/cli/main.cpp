@@ -75,6 +75,7 @@ struct IndentArgs {
   std::optional<double> depth, force;
   int steps = 10;
   bool unload = false;
+  bool noPredictor = false;
   int refine = 0;
   double refineRadius = 0;
   std::string csv, vtu;
@@ -106,6 +107,7 @@ int runIndent(const IndentArgs& a) {
   if (!a.axis.empty()) s.axis = parseVec3(a.axis, "--axis");
   s.steps = a.steps;
   s.unload = a.unload;
+  s.predictor = !a.noPredictor;
   if (a.force) {
     if (!(std::isfinite(*a.force) && *a.force > 0)) throw UsageError("--force must be positive");
     s.control = Control::Force;
@@ -336,6 +338,9 @@ int main(int argc, char** argv) {
   depthOpt->excludes(forceOpt);
   indent->add_option("--steps", ia.steps, "Number of loading steps")->capture_default_str();
   indent->add_flag("--unload", ia.unload, "Unload back to zero after loading");
+  indent->add_flag("--no-predictor", ia.noPredictor,
+                   "Start each step from the last equilibrium with the probe moved (as the "
+                   "published method did) instead of extrapolating from the last three");
   indent->add_option("--refine", ia.refine,
                      "Subdivide the walls near the site this many times (each triangle into four, "
                      "conforming transitions)")

@@ -237,7 +237,7 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
   for (size_t i = 0; i < pts.size(); ++i)
     for (size_t j = 0; j < pts.size(); ++j)
       if (j != i) w[i] *= (target - pts[j]->load) / (pts[i]->load - pts[j]->load);
-  const bool canExtrapolate = pts.size() >= 2;
+  const bool canExtrapolate = settings_.predictor && pts.size() >= 2;
   for (int attempt = canExtrapolate ? 0 : 1; attempt < 2; ++attempt) {
     const bool extrapolate = attempt == 0;
     Points x = x_;

@@ -42,6 +42,9 @@ struct IndentationSettings {
   int steps = 10;
   bool unload = false;
   int maxSubdivisions = 5;          // a failed step is split up to 2^maxSubdivisions times
+  // Start each step from the polynomial through the last equilibria (true), or from the last
+  // equilibrium with only the probe moved (false: what the published method did).
+  bool predictor = true;
 };
 
 /// Where the probe touches: site on the surface, unit axis into the tissue, and the probe centre

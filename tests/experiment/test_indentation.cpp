@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "experiment/Indentation.h"
 #include "tissue/Shapes.h"
@@ -78,6 +79,28 @@ TEST(Indentation, ForceRisesWithDepthAndLoadingEqualsUnloading) {
     EXPECT_NEAR(down.force, up.force, 1e-6 * curve[6].force + 1e-12) << "depth " << up.depth;
   }
   EXPECT_TRUE(curve[7].unloading);
+}
+
+TEST(Indentation, ThePredictorChangesTheStartNotTheCurve) {
+  // Each step starts from the extrapolation of the last equilibria, or from the last one with
+  // the probe moved (the published method): the same equilibria, the first in fewer iterations.
+  std::vector<CurvePoint> curves[2];
+  for (int predictor = 0; predictor < 2; ++predictor) {
+    Fixture f;
+    IndentationSettings s = settings(0.6, 12, false);
+    s.predictor = predictor == 1;
+    Indentation ind(*f.model, s);
+    ASSERT_TRUE(ind.prepare().converged);
+    curves[predictor] = ind.run();
+  }
+  ASSERT_EQ(curves[0].size(), curves[1].size());
+  int iterations[2] = {0, 0};
+  for (size_t k = 0; k < curves[0].size(); ++k) {
+    ASSERT_TRUE(curves[0][k].converged && curves[1][k].converged);
+    EXPECT_NEAR(curves[1][k].force, curves[0][k].force, 1e-7 * curves[0].back().force) << k;
+    for (int p = 0; p < 2; ++p) iterations[p] += curves[p][k].iterations;
+  }
+  EXPECT_LT(iterations[1], iterations[0]);
 }
 
 TEST(Indentation, ForceControlGivesTheSameCurveAsDepthControl) {

@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Markdown tables (and the targets of issue 5) from the JSON output of the two benchmarks.
+
+usage: bench/report.py indentation.json scaling.json > tables.md
+(see bench/README.md for the commands that make the JSON files)
+"""
+import json
+import math
+import sys
+
+SECONDS = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+
+
+def load(path):
+    runs = {}
+    data = json.load(open(path))
+    for b in data["benchmarks"]:
+        if b.get("run_type", "iteration") != "iteration":
+            continue
+        parts = b["name"].split("/")
+        runs[(parts[0], int(parts[1]))] = b
+    return data.get("context", {}), runs
+
+
+def seconds(b):
+    return b["real_time"] * SECONDS[b["time_unit"]]
+
+
+def fit(xs, ys):
+    lx = [math.log(x) for x in xs]
+    ly = [math.log(y) for y in ys]
+    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
+    return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
+
+
+def main():
+    context, ind = load(sys.argv[1])
+    _, sca = load(sys.argv[2]) if len(sys.argv) > 2 else ({}, {})
+    get = lambda fam, lvl: ind.get((fam, lvl))
+    levels = sorted({lvl for (fam, lvl) in ind if fam == "BM_Assembly"})
+
+    print(f"Measured {context.get('date', '?')} on {context.get('host_name', '?')}: "
+          f"{context.get('num_cpus', '?')} CPUs at {context.get('mhz_per_cpu', '?')} MHz.\n")
+    print("| refinement level | unknowns | assembly (ms) | factorisation (ms) | Newton iteration (ms) "
+          "| equilibrium step (ms) | step / factorisation | 50-step curve (s) | reference curve (s) "
+          "| speed-up |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for lvl in levels:
+        a, f, n = get("BM_Assembly", lvl), get("BM_Factorization", lvl), get("BM_NewtonIteration", lvl)
+        st, c, r = get("BM_EquilibriumStep", lvl), get("BM_LoadingCurve", lvl), get("BM_ReferenceCurve", lvl)
+        cells = [str(lvl), f"{int(a['unknowns'])}", f"{1e3 * seconds(a):.1f}", f"{1e3 * seconds(f):.1f}",
+                 f"{1e3 * seconds(n):.1f}"]
+        cells += [f"{st['median_step_ms']:.1f}", f"{st['step_over_factorization']:.2f}"] if st else ["", ""]
+        cells += [f"{seconds(c):.2f}"] if c else [""]
+        cells += [f"{seconds(r):.1f}", f"{seconds(r) / seconds(c):.0f}×"] if r and c else ["", ""]
+        print("| " + " | ".join(cells) + " |")
+
+    c0, c0n = get("BM_LoadingCurve", 0), get("BM_LoadingCurveNoPredictor", 0)
+    r0, r0p = get("BM_ReferenceCurve", 0), get("BM_ReferenceCurveWithPredictor", 0)
+    if c0 and c0n and r0 and r0p:
+        print("\nThe unrefined curve, each solver with and without the predictor (each step started "
+              "from the polynomial through the last three equilibria, or from the last equilibrium):\n")
+        print("| solver | start of a step | curve (s) | iterations or time steps | final force (µN) |")
+        print("|---|---|---|---|---|")
+        for name, start, b in (("Newton + CHOLMOD", "predictor", c0), ("Newton + CHOLMOD", "last equilibrium", c0n),
+                               ("implicit Euler + CG", "predictor", r0p),
+                               ("implicit Euler + CG (published)", "last equilibrium", r0)):
+            print(f"| {name} | {start} | {seconds(b):.2f} | {int(b['iterations'])} | {b['final_force_uN']:.4f} |")
+
+    if sca:
+        runs = [sca[k] for k in sorted(sca)]
+        print("\n| unknowns | equilibrium step (s) | factorisation (s) | peak memory (MB) |")
+        print("|---|---|---|---|")
+        for b in runs:
+            print(f"| {int(b['unknowns'])} | {b['median_step_s']:.3f} | {b['factorization_s']:.3f} "
+                  f"| {b['peak_memory_MB']:.0f} |")
+        xs = [b["unknowns"] for b in runs]
+        print("\nFitted exponents (least squares on logarithms): time per equilibrium ∝ unknowns^"
+              f"{fit(xs, [b['median_step_s'] for b in runs]):.2f}, factorisation ∝ unknowns^"
+              f"{fit(xs, [b['factorization_s'] for b in runs]):.2f}, peak memory ∝ unknowns^"
+              f"{fit(xs, [b['peak_memory_MB'] for b in runs]):.2f}.")
+
+
+if __name__ == "__main__":
+    main()
