@@ -193,11 +193,15 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (fc)
       for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
     bool solved = false;
-    // A factor that needed more than refactorAfterPcg CG iterations last time has drifted too
-    // far from the tangent: it is refactorised straight away (one factorisation costs about as
-    // much as 20 CG iterations).
-    if (options_.reuseFactorization && chol_.factored() && shift == 0 &&
-        lastPcgIterations_ <= options_.refactorAfterPcg) {
+    // A factor whose last CG solve failed, or took more than refactorAfterPcg iterations and
+    // more than a quarter of a factorisation's time, has drifted too far from the tangent: it is
+    // refactorised straight away. (On the default meristem a factorisation costs about as much as
+    // 40 CG iterations; on large meshes the triangular solves get relatively cheaper, so more CG
+    // iterations are worth doing before refactorising.)
+    const bool factorDrifted =
+        lastPcgFailed_ || (lastPcgIterations_ > options_.refactorAfterPcg &&
+                           lastPcgSeconds_ > 0.25 * factorSeconds_);
+    if (options_.reuseFactorization && chol_.factored() && shift == 0 && !factorDrifted) {
       // Inexact Newton: solve just accurately enough for this step to reach the tolerance
       // (a tenth of the remaining reduction), never looser than pcgTolerance.
       const double target = std::max(options_.tolerance * rep.loadScale, noiseFloor);
@@ -206,9 +210,11 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       tick = Clock::now();
       solved = pcg(pattern, ev_.hessian, g, dx, eta, its) &&
                (!fc || pcg(pattern, ev_.hessian, b, z2, eta, its));
-      totals_.pcgSeconds += seconds(tick);
+      lastPcgSeconds_ = seconds(tick);
+      totals_.pcgSeconds += lastPcgSeconds_;
       rep.pcgIterations += its;
-      lastPcgIterations_ = solved ? its / (fc ? 2 : 1) : options_.maxPcgIterations;
+      lastPcgIterations_ = its / (fc ? 2 : 1);
+      lastPcgFailed_ = !solved;
     }
     if (!solved) {
       tick = Clock::now();
@@ -216,8 +222,10 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       bool projected = false;
       for (int attempt = 0; attempt < 40; ++attempt) {
         ++rep.factorizations;
+        const auto start = Clock::now();
         const auto st = chol_.factorize(ev_.hessian, shift);
         if (st == CholmodSolver::Status::Ok) {
+          factorSeconds_ = seconds(start);
           factored = true;
           break;
         }
@@ -242,6 +250,8 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       }
       if (!factored) return fail("tangent matrix could not be made positive definite");
       lastPcgIterations_ = 0;
+      lastPcgSeconds_ = 0;
+      lastPcgFailed_ = false;
       rep.maxShift = std::max(rep.maxShift, shift);
       chol_.solve(g, dx);
       if (fc) chol_.solve(b, z2);

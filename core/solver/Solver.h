@@ -24,7 +24,8 @@ struct SolverOptions {
   bool reuseFactorization = true;  // try CG preconditioned by the last factor before refactoring
   double pcgTolerance = 1e-3;  // loosest relative residual of those CG solves (inexact Newton)
   int maxPcgIterations = 25;   // beyond this the tangent is factorised afresh
-  int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations
+  int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations (and
+                               // more than a quarter of a factorisation's time)
   bool projectContactHessian = true;  // when the tangent is not positive definite, first retry
                                       // with the positive part of each contact element's Hessian
   bool verbose = false;        // print one line per iteration to stderr
