@@ -30,7 +30,7 @@ TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // hover highlight without a button pressed
   setMinimumSize(320, 240);
-  setFormat(surfaceFormat(0));  // 4× multisampling smooths the outlines
+  setFormat(surfaceFormat(0));  // no multisampling: with a software renderer it cost the solver CPU
   // A fallback only: depth requests are paced by the equilibria coming back (setSnapshot), and
   // this sends the pending one should a request bring no snapshot.
   depthTimer_.setSingleShot(true);
