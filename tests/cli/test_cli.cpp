@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 
 #include "io/CurveCsv.h"
+#include "support/SharedData.h"
 
 using testing::HasSubstr;
 
@@ -34,10 +35,6 @@ CliRun cli(const std::string& args) {
   return r;
 }
 
-std::string dataDir() {
-  if (const char* d = std::getenv("TP_SHARED_DATA_DIR")) return d;
-  return std::string(TP_SOURCE_DIR) + "/../shared/data";
-}
 
 std::string tmp(const std::string& name) { return testing::TempDir() + "/cli_" + name; }
 
@@ -130,7 +127,10 @@ TEST(Cli, BadInputIsNamed) {
   r = cli("indent --mesh " + bad);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("bad.ply"));
-  r = cli("indent --mesh " + dataDir() + "/mgx2r_meristem_morphographx/mesh_meristem_full_T0.ply");
+  const std::string mgx =
+      tp::test::sharedDataFile("mgx2r_meristem_morphographx/mesh_meristem_full_T0.ply");
+  TP_SKIP_WITHOUT_DATA(mgx);
+  r = cli("indent --mesh " + mgx);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("376 error(s)"));
   EXPECT_THAT(r.output, HasSubstr("surface mesh"));
@@ -141,7 +141,9 @@ TEST(Cli, InfoAndBuildFromCentroids) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("yes, every cell"));
   const std::string out = tmp("real.ply");
-  r = cli("build --centroids " + dataDir() + "/refahi2021_flower_stage4/cells.csv " +
+  const std::string centroids = tp::test::sharedDataFile("refahi2021_flower_stage4/cells.csv");
+  TP_SKIP_WITHOUT_DATA(centroids);
+  r = cli("build --centroids " + centroids + " " +
           "--columns label,x,y,z,volume_um3 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("correlation"));

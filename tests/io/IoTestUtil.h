@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "support/SharedData.h"
+
 namespace tp::test {
 
 /// A fresh directory under the system temp folder, removed with everything in it.
@@ -54,13 +56,6 @@ inline std::string readText(const std::string& path) {
 inline void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
-}
-
-/// The folder of the shared data sets: $TP_SHARED_DATA_DIR (set by ctest), else next to the
-/// source tree.
-inline std::filesystem::path sharedDataDir() {
-  if (const char* env = std::getenv("TP_SHARED_DATA_DIR"); env && *env) return env;
-  return std::filesystem::path(TP_SOURCE_DIR) / ".." / "shared" / "data";
 }
 
 /// Runs f, which must throw E, and returns the message ("" and a test failure otherwise).

@@ -22,12 +22,7 @@ using ::testing::Contains;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-std::string dataFile(const std::string& relative) {
-  return (test::sharedDataDir() / relative).string();
-}
-
-#define SKIP_IF_MISSING(path) \
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "data file not found: " << (path)
+std::string dataFile(const std::string& relative) { return test::sharedDataFile(relative); }
 
 void expectBox(const CellComplex& cc, const Vec3& lo, const Vec3& hi, double tol) {
   const Vec3 mn = cc.rest.rowwise().minCoeff(), mx = cc.rest.rowwise().maxCoeff();
@@ -45,7 +40,7 @@ double totalArea(const CellComplex& cc) {
 
 TEST(PlyData, MorphoGraphXMeshFaceLabelsAreCells) {
   const std::string path = dataFile("mgx2r_meristem_morphographx/mesh_meristem_full_T0.ply");
-  SKIP_IF_MISSING(path);
+  TP_SKIP_WITHOUT_DATA(path);
   PlyInfo info;
   const CellComplex cc = readPly(path, &info);
   EXPECT_EQ(info.format, "ascii");
@@ -67,7 +62,7 @@ TEST(PlyData, MorphoGraphXMeshFaceLabelsAreCells) {
 
 TEST(PlyData, MorphoGraphXCellGraphHasNoFaces) {
   const std::string path = dataFile("mgx2r_meristem_morphographx/cellGraph_meristem_full_T0.ply");
-  SKIP_IF_MISSING(path);
+  TP_SKIP_WITHOUT_DATA(path);
   EXPECT_THAT(messageOf<PlyError>([&] { readPly(path); }),
               AllOf(HasSubstr(path), HasSubstr("no faces"), HasSubstr("vertex, edge")));
 }
@@ -92,7 +87,7 @@ TEST(PlyData, OpenAleaTopomeshSurfaces) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
     const std::string path = dataFile(c.file);
-    SKIP_IF_MISSING(path);
+    TP_SKIP_WITHOUT_DATA(path);
     PlyInfo info;
     const CellComplex cc = readPly(path, &info);
     EXPECT_EQ(cc.vertexCount(), c.vertices);

@@ -17,6 +17,7 @@
 
 #include "experiment/Indentation.h"
 #include "io/Centroids.h"
+#include "support/SharedData.h"
 #include "tissue/RealTissue.h"
 
 using namespace tp;
@@ -24,12 +25,7 @@ using testing::HasSubstr;
 
 namespace {
 
-std::string dataDir() {
-  if (const char* d = std::getenv("TP_SHARED_DATA_DIR")) return d;
-  return std::string(TP_SOURCE_DIR) + "/../shared/data";
-}
-
-std::string refahi() { return dataDir() + "/refahi2021_flower_stage4/cells.csv"; }
+std::string refahi() { return test::sharedDataFile("refahi2021_flower_stage4/cells.csv"); }
 
 struct Built {
   CentroidTable table;
@@ -56,6 +52,7 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST(RealTissue, EveryCellClosedAndLabelsKept) {
+  TP_SKIP_WITHOUT_DATA(refahi());
   const Built& b = refahiTissue();
   ASSERT_EQ(b.table.points.size(), 1331u);
   const ValidityReport& v = b.report.validity;
@@ -77,6 +74,7 @@ TEST(RealTissue, EveryCellClosedAndLabelsKept) {
 }
 
 TEST(RealTissue, VolumesCorrelateWithTheMeasuredOnes) {
+  TP_SKIP_WITHOUT_DATA(refahi());
   const Built& b = refahiTissue();
   const auto vol = cellVolumes(b.cc, b.cc.rest);
   std::vector<double> built, measured;
@@ -100,6 +98,7 @@ TEST(RealTissue, WallsJoinOnlyDelaunayNeighbours) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
   using Dt = CGAL::Delaunay_triangulation_3<K, CGAL::Triangulation_data_structure_3<Vb>>;
+  TP_SKIP_WITHOUT_DATA(refahi());
   const Built& b = refahiTissue();
   std::vector<std::pair<K::Point_3, int>> pts;
   for (int c = 0; c < b.cc.cellCount(); ++c) {
@@ -119,6 +118,7 @@ TEST(RealTissue, WallsJoinOnlyDelaunayNeighbours) {
 }
 
 TEST(RealTissue, IndentationCurveComputed) {
+  TP_SKIP_WITHOUT_DATA(refahi());
   const Built& b = refahiTissue();
   auto cc = std::make_shared<CellComplex>(b.cc);
   Material mat;
