@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -20,6 +21,7 @@ EdgeKey key(int a, int b) { return std::minmax(a, b); }
 struct Tri {
   int v[3];
   int wall;
+  int origin;  // the base triangle it subdivides
   bool alive = true;
 };
 
@@ -34,11 +36,14 @@ class Refiner {
     for (int v = 0; v < cc.vertexCount(); ++v) pos_.push_back(cc.rest.col(v));
     fixed_ = cc.fixed;
     for (int t = 0; t < cc.triangleCount(); ++t)
-      add(Tri{{cc.triangles[t][0], cc.triangles[t][1], cc.triangles[t][2]}, cc.triangleWall[t]});
+      add(Tri{{cc.triangles[t][0], cc.triangles[t][1], cc.triangles[t][2]}, cc.triangleWall[t], t});
   }
 
-  void level(const Vec3& center, double radius) {
-    // Undo the green closures of the previous level.
+  /// One pass: red-refines the live triangles `mark` selects (given the triangle's three rest
+  /// positions), closes the result conformingly, and returns how many were marked.
+  template <class Mark>
+  int pass(Mark&& mark) {
+    // Undo the green closures of the previous pass.
     for (const auto& g : greens_) {
       kill(g.child[0]);
       kill(g.child[1]);
@@ -50,9 +55,8 @@ class Refiner {
     for (size_t t = 0; t < tris_.size(); ++t) {
       if (!tris_[t].alive) continue;
       const Tri& tr = tris_[t];
-      const double d2 = pointTriangleDistance2(center, pos_[tr.v[0]], pos_[tr.v[1]], pos_[tr.v[2]],
-                                               nullptr, nullptr, nullptr);
-      if (d2 <= radius * radius) marked.push_back(static_cast<int>(t));
+      if (mark(pos_[tr.v[0]], pos_[tr.v[1]], pos_[tr.v[2]], tr.wall))
+        marked.push_back(static_cast<int>(t));
     }
     for (int t : marked)
       if (tris_[t].alive) red(t, queue);
@@ -85,11 +89,21 @@ class Refiner {
         if (it == mid_.end()) continue;
         const int m = it->second;
         kill(static_cast<int>(t));
-        GreenPair g{tr, {add(Tri{{a, m, c}, tr.wall}), add(Tri{{m, b, c}, tr.wall})}};
+        GreenPair g{tr, {add(Tri{{a, m, c}, tr.wall, tr.origin}),
+                         add(Tri{{m, b, c}, tr.wall, tr.origin})}};
         greens_.push_back(g);
         break;
       }
     }
+    return static_cast<int>(marked.size());
+  }
+
+  /// The base triangle of each live triangle, in the order result() lists them.
+  std::vector<int> origins() const {
+    std::vector<int> out;
+    for (const auto& t : tris_)
+      if (t.alive) out.push_back(t.origin);
+    return out;
   }
 
   CellComplex result(const CellComplex& original, RefineReport& rep) const {
@@ -113,6 +127,13 @@ class Refiner {
       }
     rep.greenTriangles = 2 * static_cast<int>(greens_.size());
     rep.addedVertices = static_cast<int>(pos_.size()) - original.vertexCount();
+    return out;
+  }
+
+  /// The two vertices each added vertex is the midpoint of, in order of creation.
+  std::vector<std::array<int, 2>> parents(int baseVertices) const {
+    std::vector<std::array<int, 2>> out(pos_.size() - baseVertices);
+    for (const auto& [edge, m] : mid_) out[m - baseVertices] = {edge.first, edge.second};
     return out;
   }
 
@@ -165,8 +186,9 @@ class Refiner {
     const int a = tr.v[0], b = tr.v[1], c = tr.v[2];
     const int ab = midpoint(a, b, queue), bc = midpoint(b, c, queue), ca = midpoint(c, a, queue);
     kill(t);
-    for (const Tri& child : {Tri{{a, ab, ca}, tr.wall}, Tri{{ab, b, bc}, tr.wall},
-                             Tri{{ca, bc, c}, tr.wall}, Tri{{ab, bc, ca}, tr.wall}})
+    for (const Tri& child :
+         {Tri{{a, ab, ca}, tr.wall, tr.origin}, Tri{{ab, b, bc}, tr.wall, tr.origin},
+          Tri{{ca, bc, c}, tr.wall, tr.origin}, Tri{{ab, bc, ca}, tr.wall, tr.origin}})
       queue.push_back(add(child));
     ++reds;
   }
@@ -193,24 +215,163 @@ double minAngle(const CellComplex& cc) {
 
 }  // namespace
 
-CellComplex refineNear(const CellComplex& cc, const Vec3& center, double radius, int levels,
-                       RefineReport* report) {
+RefinedComplex refineWithin(const CellComplex& cc, const Vec3& center, double radius,
+                            int levels) {
   if (levels < 0) throw std::invalid_argument("refinement level must be >= 0");
   if (!(radius > 0) || !center.allFinite())
     throw std::invalid_argument("refinement needs a positive radius and a finite centre");
-  RefineReport rep;
-  rep.levels = levels;
+  RefinedComplex out;
+  out.report.levels = levels;
   if (levels == 0) {
-    rep.minAngleDeg = minAngle(cc);
-    if (report) *report = rep;
-    return cc;
+    out = unrefined(cc);
+    return out;
   }
   Refiner r(cc);
-  for (int l = 0; l < levels; ++l) r.level(center, radius);
-  CellComplex out = r.result(cc, rep);
-  rep.redTriangles = r.reds;
-  rep.minAngleDeg = minAngle(out);
-  if (report) *report = rep;
+  for (int l = 0; l < levels; ++l)
+    r.pass([&](const Vec3& a, const Vec3& b, const Vec3& c, int) {
+      return pointTriangleDistance2(center, a, b, c, nullptr, nullptr, nullptr) <= radius * radius;
+    });
+  out.complex = r.result(cc, out.report);
+  out.parents = r.parents(cc.vertexCount());
+  out.baseTriangle = r.origins();
+  out.report.redTriangles = r.reds;
+  out.report.minAngleDeg = minAngle(out.complex);
+  return out;
+}
+
+CellComplex refineNear(const CellComplex& cc, const Vec3& center, double radius, int levels,
+                       RefineReport* report) {
+  RefinedComplex r = refineWithin(cc, center, radius, levels);
+  if (report) *report = r.report;
+  return std::move(r.complex);
+}
+
+}  // namespace tp
+
+namespace tp {
+
+double GradedRefinement::targetSize(double distance) const {
+  return std::max(finest, finest + (distance - innerRadius) / grading);
+}
+
+RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec) {
+  if (!(spec.finest > 0) || !(spec.grading > 0) || !(spec.innerRadius >= 0) ||
+      !(spec.outerRadius >= 0) || !spec.center.allFinite() || !(spec.panelSize >= 0))
+    throw std::invalid_argument("graded refinement needs a finite centre, a positive finest size "
+                                "and grading, and non-negative radii");
+  // The zone: every wall with a triangle within the outer radius, refined whole.
+  const double outer2 = spec.outerRadius * spec.outerRadius;
+  std::vector<char> zone(cc.wallCount(), 0);
+  for (int t = 0; t < cc.triangleCount(); ++t) {
+    const auto& tri = cc.triangles[t];
+    if (pointTriangleDistance2(spec.center, cc.rest.col(tri[0]), cc.rest.col(tri[1]),
+                               cc.rest.col(tri[2]), nullptr, nullptr, nullptr) <= outer2)
+      zone[cc.triangleWall[t]] = 1;
+  }
+  RefinedComplex out;
+  Refiner r(cc);
+  int passes = 0;
+  for (; passes < spec.maxPasses; ++passes) {
+    const int marked = r.pass([&](const Vec3& a, const Vec3& b, const Vec3& c, int wall) {
+      if (!zone[wall]) return false;
+      const double d2 = pointTriangleDistance2(spec.center, a, b, c, nullptr, nullptr, nullptr);
+      const double longest =
+          std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+      double target = spec.targetSize(std::sqrt(d2));
+      if (spec.panelSize > 0) target = std::min(target, spec.panelSize);
+      return longest > target * target;
+    });
+    if (marked == 0) break;
+  }
+  out.complex = r.result(cc, out.report);
+  out.parents = r.parents(cc.vertexCount());
+  out.baseTriangle = r.origins();
+  out.report.levels = passes;
+  out.report.redTriangles = r.reds;
+  out.report.minAngleDeg = minAngle(out.complex);
+  return out;
+}
+
+RefinedComplex refineWalls(const CellComplex& cc, const std::vector<char>& walls, int levels) {
+  if (static_cast<int>(walls.size()) != cc.wallCount())
+    throw std::invalid_argument("refineWalls: one flag per wall expected");
+  RefinedComplex out;
+  Refiner r(cc);
+  for (int l = 0; l < levels; ++l)
+    r.pass([&](const Vec3&, const Vec3&, const Vec3&, int wall) { return walls[wall] != 0; });
+  out.complex = r.result(cc, out.report);
+  out.parents = r.parents(cc.vertexCount());
+  out.baseTriangle = r.origins();
+  out.report.levels = levels;
+  out.report.redTriangles = r.reds;
+  out.report.minAngleDeg = minAngle(out.complex);
+  return out;
+}
+
+Points prolongate(const Points& coarse, const std::vector<std::array<int, 2>>& parents) {
+  const int V = static_cast<int>(coarse.cols());
+  Points fine(3, V + static_cast<int>(parents.size()));
+  fine.leftCols(V) = coarse;
+  for (size_t i = 0; i < parents.size(); ++i)
+    fine.col(V + i) = 0.5 * (fine.col(parents[i][0]) + fine.col(parents[i][1]));
+  return fine;
+}
+
+RefinedComplex unrefined(const CellComplex& cc) {
+  RefinedComplex out;
+  out.complex = cc;
+  out.baseTriangle.resize(cc.triangleCount());
+  for (int t = 0; t < cc.triangleCount(); ++t) out.baseTriangle[t] = t;
+  out.report.minAngleDeg = minAngle(cc);
+  return out;
+}
+
+Points transferPositions(const CellComplex& base, const RefinedComplex& from, const Points& x,
+                         const RefinedComplex& to) {
+  if (x.cols() != from.complex.vertexCount() ||
+      static_cast<int>(from.baseTriangle.size()) != from.complex.triangleCount() ||
+      static_cast<int>(to.baseTriangle.size()) != to.complex.triangleCount())
+    throw std::invalid_argument("transferPositions: the refinements do not match the positions");
+  // The triangles of `from` inside each base triangle.
+  std::vector<std::vector<int>> inside(base.triangleCount());
+  for (int t = 0; t < from.complex.triangleCount(); ++t) inside[from.baseTriangle[t]].push_back(t);
+  const Points& X = from.complex.rest;
+  // Barycentric coordinates of p in the plane of (a, b, c).
+  auto weights = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    const Vec3 n = (b - a).cross(c - a);
+    const double n2 = std::max(n.squaredNorm(), 1e-300);
+    Vec3 w((c - b).cross(p - b).dot(n) / n2, (a - c).cross(p - c).dot(n) / n2, 0.0);
+    w[2] = 1.0 - w[0] - w[1];
+    return w;
+  };
+  Points out(3, to.complex.vertexCount());
+  std::vector<char> done(to.complex.vertexCount(), 0);
+  for (int t = 0; t < to.complex.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int v = to.complex.triangles[t][k];
+      if (done[v]) continue;
+      done[v] = 1;
+      const Vec3 p = to.complex.rest.col(v);
+      // The triangle of `from`, in the same base triangle, that holds p (the one it is least
+      // outside of, against round-off).
+      int best = -1;
+      double bestOutside = std::numeric_limits<double>::infinity();
+      Vec3 bestW = Vec3::Zero();
+      for (int f : inside[to.baseTriangle[t]]) {
+        const auto& tri = from.complex.triangles[f];
+        const Vec3 w = weights(X.col(tri[0]), X.col(tri[1]), X.col(tri[2]), p);
+        const double outside = -std::min(0.0, w.minCoeff());
+        if (outside < bestOutside) {
+          bestOutside = outside;
+          best = f;
+          bestW = w;
+          if (outside == 0) break;
+        }
+      }
+      if (best < 0) throw std::logic_error("transferPositions: a base triangle has no triangle");
+      const auto& tri = from.complex.triangles[best];
+      out.col(v) = bestW[0] * x.col(tri[0]) + bestW[1] * x.col(tri[1]) + bestW[2] * x.col(tri[2]);
+    }
   return out;
 }
 

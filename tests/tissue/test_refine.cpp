@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "experiment/Indentation.h"
+#include "mechanics/Contact.h"
 #include "mesh/Quality.h"
 #include "tissue/Meristem.h"
 #include "tissue/Refine.h"
@@ -169,4 +171,132 @@ TEST(Refine, CoarseMeshLetsAVertexProbeThroughRefinedDoesNot) {
     ASSERT_TRUE(curve.back().converged);
     EXPECT_GT(curve.back().force, 0.0);
   }
+}
+
+namespace {
+
+double longestEdge(const CellComplex& cc, int t) { return maxEdge(cc, t); }
+
+double distanceToTriangle(const CellComplex& cc, int t, const Vec3& p) {
+  const auto& tri = cc.triangles[t];
+  return std::sqrt(pointTriangleDistance2(p, cc.rest.col(tri[0]), cc.rest.col(tri[1]),
+                                          cc.rest.col(tri[2]), nullptr, nullptr, nullptr));
+}
+
+}  // namespace
+
+TEST(GradedRefinement, MeetsTheTargetSizeConformingAndGraded) {
+  const CellComplex base = generateMeristem(MeristemParams{});
+  const MeshQuality q0 = measureQuality(base);
+  GradedRefinement g;
+  g.center = Vec3(0, 0, 41.5);
+  g.finest = 0.25;
+  g.innerRadius = 1.0;
+  g.grading = 1.5;
+  g.outerRadius = 8.0;
+  const RefinedComplex r = refineGraded(base, g);
+  const CellComplex& cc = r.complex;
+  const ValidityReport v = checkValidity(cc);  // a hanging node would leave a cell open
+  ASSERT_TRUE(v.ok()) << v.summary();
+  // Flat subdivision keeps every cell's volume; the base vertices stay first and unmoved.
+  const auto vol0 = cellVolumes(base, base.rest), vol1 = cellVolumes(cc, cc.rest);
+  for (size_t c = 0; c < vol0.size(); ++c) EXPECT_NEAR(vol1[c], vol0[c], 1e-9 * vol0[c]);
+  for (int i = 0; i < base.vertexCount(); ++i) EXPECT_EQ(cc.rest.col(i), base.rest.col(i));
+  // The target: within the outer radius every triangle is at most targetSize(d) long (d its
+  // distance from the centre); the smallest ones under the probe are `finest`.
+  double smallest = 1e9;
+  for (int t = 0; t < cc.triangleCount(); ++t) {
+    const double d = distanceToTriangle(cc, t, g.center);
+    if (d <= g.outerRadius) {
+      EXPECT_LE(longestEdge(cc, t), g.targetSize(d) * (1 + 1e-12));
+    }
+    smallest = std::min(smallest, longestEdge(cc, t));
+  }
+  EXPECT_LE(smallest, g.finest);
+  EXPECT_GT(smallest, 0.2 * g.finest);
+  // Graded: triangles sharing an edge differ by at most one level (a factor ~2 in size, up to
+  // the base mesh's own disparity at a base edge, and the green halves).
+  std::map<std::pair<int, int>, std::vector<int>> byEdge;
+  for (int t = 0; t < cc.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k)
+      byEdge[std::minmax(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])].push_back(t);
+  int worse = 0;
+  for (const auto& [e, ts] : byEdge)
+    for (size_t i = 1; i < ts.size(); ++i) {
+      const int a = ts[0], b = ts[i];
+      if (r.baseTriangle[a] != r.baseTriangle[b]) continue;  // compare within a base triangle
+      const double ratio = longestEdge(cc, a) / longestEdge(cc, b);
+      if (ratio > 4.0 || ratio < 0.25) ++worse;
+    }
+  EXPECT_EQ(worse, 0);
+  // Well shaped: no sliver worse than half the base mesh's smallest angle (green halves).
+  EXPECT_GE(r.report.minAngleDeg, 0.5 * q0.minAngleDeg - 1e-9);
+  // Whole walls: every triangle of a wall that reaches within the outer radius meets the
+  // target, however far it is.
+  std::vector<char> zone(cc.wallCount(), 0);
+  for (int t = 0; t < cc.triangleCount(); ++t)
+    if (distanceToTriangle(cc, t, g.center) <= g.outerRadius) zone[cc.triangleWall[t]] = 1;
+  int beyond = 0;
+  for (int t = 0; t < cc.triangleCount(); ++t) {
+    if (!zone[cc.triangleWall[t]]) continue;
+    const double d = distanceToTriangle(cc, t, g.center);
+    EXPECT_LE(longestEdge(cc, t), g.targetSize(d) * (1 + 1e-12));
+    beyond += d > g.outerRadius;
+  }
+  EXPECT_GT(beyond, 0);  // the zone's walls reach past the radius
+  std::printf("  graded: %d vertices (+%d), %d triangles, %d passes, min angle %.2f deg (base "
+              "%.2f)\n",
+              cc.vertexCount(), r.report.addedVertices, cc.triangleCount(), r.report.levels,
+              r.report.minAngleDeg, q0.minAngleDeg);
+}
+
+TEST(GradedRefinement, ProlongationAndTransferAreExactForAffineFields) {
+  const CellComplex base = smallMeristem();
+  GradedRefinement g;
+  g.center = Vec3(0, 0, 16);
+  g.finest = 0.5;
+  g.innerRadius = 1;
+  g.grading = 1;
+  g.outerRadius = 5;
+  const RefinedComplex a = refineGraded(base, g);
+  g.finest = 0.25;
+  g.grading = 2;
+  const RefinedComplex b = refineGraded(base, g);
+  ASSERT_GT(b.complex.vertexCount(), a.complex.vertexCount());
+  // The refinement puts each new vertex at the midpoint of its parents.
+  EXPECT_LT((prolongate(base.rest, a.parents) - a.complex.rest).cwiseAbs().maxCoeff(), 1e-12);
+  // An affine deformation of the rest state is carried from one refinement to another exactly
+  // (linear interpolation reproduces affine fields), both ways and from the base.
+  Eigen::Matrix3d A;
+  A << 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.2;
+  const Vec3 shift(1, -2, 0.5);
+  auto affine = [&](const Points& X) -> Points { return (A * X).colwise() + shift; };
+  const RefinedComplex self = unrefined(base);
+  for (const auto& [from, to] : {std::pair{&a, &b}, std::pair{&b, &a}, std::pair{&self, &b}}) {
+    const Points moved = transferPositions(base, *from, affine(from->complex.rest), *to);
+    EXPECT_LT((moved - affine(to->complex.rest)).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  // Not affine: the base vertices, which every refinement shares, keep their positions (to
+  // round-off in the barycentric weights).
+  Points wavy = a.complex.rest;
+  for (int v = 0; v < wavy.cols(); ++v) wavy(2, v) += std::sin(wavy(0, v));
+  const Points onB = transferPositions(base, a, wavy, b);
+  for (int v = 0; v < base.vertexCount(); ++v)
+    EXPECT_LT((onB.col(v) - wavy.col(v)).norm(), 1e-12 * (1 + wavy.col(v).norm()));
+}
+
+TEST(GradedRefinement, RefineWallsHalvesEveryTriangleOfTheWallsFlagged) {
+  const CellComplex base = boxTissue(2, 2, 1, 2.0);
+  std::vector<char> walls(base.wallCount(), 0);
+  walls[0] = walls[3] = 1;
+  const RefinedComplex r = refineWalls(base, walls, 2);
+  ASSERT_TRUE(checkValidity(r.complex).ok());
+  std::vector<int> count(base.wallCount(), 0), baseCount(base.wallCount(), 0);
+  for (int w : r.complex.triangleWall) ++count[w];
+  for (int w : base.triangleWall) ++baseCount[w];
+  for (int w = 0; w < base.wallCount(); ++w)
+    if (walls[w]) {
+      EXPECT_EQ(count[w], 16 * baseCount[w]) << "wall " << w;  // two halvings
+    }
+  EXPECT_THROW(refineWalls(base, std::vector<char>(3, 1), 1), std::invalid_argument);
 }
