@@ -70,6 +70,11 @@ SolveReport ImplicitEulerSolver::solve(Points& x, ForceControl* fc) {
       rep.converged = true;
       break;
     }
+    if (cancel_ && cancel_->load()) {
+      x = x0;
+      rep.message = "cancelled";
+      break;
+    }
     if (step >= options_.maxTimeSteps || since(start) > options_.maxSeconds) {
       std::ostringstream s;
       s << "not at rest after " << step << " time steps (" << since(start)

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <limits>
 #include <sstream>
 
 namespace tp {
@@ -64,6 +66,76 @@ double StaticSolver::timeFactorization() {
   const auto tick = Clock::now();
   chol_.factorize(ev_.hessian, lastShift_ > 0 ? lastShift_ : 1e-12 * maxDiag);
   return seconds(tick);
+}
+
+bool StaticSolver::factorizeTangent(double& shift, double maxDiag, int& factorizations,
+                                    const std::function<void()>& projectContact,
+                                    std::string& why) {
+  bool projected = false;
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    ++factorizations;
+    const auto start = Clock::now();
+    const auto st = chol_.factorize(ev_.hessian, shift);
+    if (st == CholmodSolver::Status::Ok) {
+      factorSeconds_ = seconds(start);
+      return true;
+    }
+    if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed) {
+      why = chol_.lastMessage();
+      return false;
+    }
+    // Not positive definite. The usual culprit is the contact: the sphere's curvature makes
+    // its Hessian indefinite. Keep only its positive part for this iteration (an exact
+    // Newton step whenever the true tangent is positive definite, which it is at a stable
+    // equilibrium); then, if needed, shift the diagonal.
+    if (!projected && !ev_.contactProjected && options_.projectContactHessian &&
+        ev_.contactTriangles > 0 && projectContact) {
+      projected = true;
+      projectContact();
+      continue;
+    }
+    shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
+    if (shift > 1e6 * maxDiag) break;
+  }
+  why = "tangent matrix could not be made positive definite";
+  return false;
+}
+
+bool StaticSolver::tangentSolve(const Points& x, const Eigen::VectorXd& load,
+                                Eigen::VectorXd& displacement) {
+  const DofMap& dofs = model_.dofs();
+  const int n = dofs.freeCount();
+  if (load.size() != dofs.fullCount() || n == 0) return false;
+  if (analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz()) {
+    chol_.analyze(model_.pattern());
+    analyzedFor_ = &model_.pattern();
+    analyzedNnz_ = model_.pattern().nnz();
+  }
+  const auto tick = Clock::now();
+  model_.evaluate(x, ev_, true);
+  lastX_ = x;
+  totals_.assemblySeconds += seconds(tick);
+  double maxDiag = 0;
+  for (int j = 0; j < n; ++j)
+    maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
+  if (!(maxDiag > 0)) return false;
+  double shift = lastShift_;
+  int factorizations = 0;
+  std::string why;
+  const auto start = Clock::now();
+  const bool ok = factorizeTangent(shift, maxDiag, factorizations, {}, why);
+  totals_.factorizations += factorizations;
+  totals_.factorSeconds += seconds(start);
+  if (!ok) return false;
+  lastPcgIterations_ = 0;
+  lastPcgSeconds_ = 0;
+  lastPcgFailed_ = false;
+  Eigen::VectorXd f(n), u;
+  for (int i = 0; i < n; ++i) f[i] = load[dofs.freeDofs()[i]];
+  chol_.solve(f, u);
+  displacement.setZero(dofs.fullCount());
+  for (int i = 0; i < n; ++i) displacement[dofs.freeDofs()[i]] = u[i];
+  return displacement.allFinite();
 }
 
 SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
@@ -146,6 +218,14 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   };
 
   Points xt = x;
+  double bestResidual = std::numeric_limits<double>::infinity();
+  int stalled = 0;
+  bool projectContact = projectedLastSolve_;
+  struct Remember {
+    bool& from;
+    bool& to;
+    ~Remember() { to = from; }
+  } remember{projectContact, projectedLastSolve_};
   evaluateAt(x, travel, false, ev_);
   for (int it = 0;; ++it) {
     measure(ev_, travel, rep.energy, rep.residual, rep.loadScale);
@@ -158,7 +238,22 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
                    ev_.contactTriangles, rep.factorizations, rep.pcgIterations);
     if (!std::isfinite(rep.energy)) return fail("energy is not finite");
     if (!std::isfinite(rep.residual)) return fail("residual is not finite");
-    if (rep.residual <= std::max(options_.tolerance * rep.loadScale, noiseFloor)) {
+    // Stagnation: when full Newton steps no longer reduce the residual and it is already within
+    // a hundred times the target, it sits on the round-off floor of the forces (sliver
+    // triangles far from the origin make that floor higher than roundOffFloor() says): the
+    // state is as converged as the arithmetic allows.
+    const double goal = std::max(options_.tolerance * rep.loadScale, noiseFloor);
+    if (rep.residual < 0.5 * bestResidual) {
+      bestResidual = rep.residual;
+      stalled = 0;
+    } else if (it > 0) {
+      ++stalled;
+    }
+    const bool atFloor = stalled >= 3 && rep.residual <= 100 * goal;
+    if (cancel_ && cancel_->load()) return fail("cancelled");
+    if (rep.residual <= goal || atFloor) {
+      if (atFloor && rep.residual > goal)
+        rep.message = "converged to the round-off floor of the forces";
       rep.converged = true;
       lastX_ = x;
       if (fc) fc->travel = travel;
@@ -173,8 +268,11 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     }
     // The first iteration of a solve uses the positive part of each contact element's Hessian
     // (the sphere's curvature makes it indefinite: robust, and the lagged factor stays a good
-    // preconditioner); later iterations use the exact tangent, so convergence is quadratic.
-    const bool projectFirst = options_.projectContactHessian && it == 0;
+    // preconditioner); later iterations use the exact tangent, so convergence is quadratic,
+    // unless the exact tangent has already failed to be positive definite in this solve or the
+    // last one: then the positive part again (one factorisation per iteration instead of two,
+    // at the price of a linear rate in the contact's curvature term, which is small).
+    const bool projectFirst = options_.projectContactHessian && (it == 0 || projectContact);
     if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0)) {
       model_.setProjectContactHessian(projectFirst);
       evaluateAt(x, travel, true, ev_);
@@ -218,37 +316,18 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     }
     if (!solved) {
       tick = Clock::now();
-      bool factored = false;
-      bool projected = false;
-      for (int attempt = 0; attempt < 40; ++attempt) {
-        ++rep.factorizations;
-        const auto start = Clock::now();
-        const auto st = chol_.factorize(ev_.hessian, shift);
-        if (st == CholmodSolver::Status::Ok) {
-          factorSeconds_ = seconds(start);
-          factored = true;
-          break;
-        }
-        if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed)
-          return fail(chol_.lastMessage());
-        // Not positive definite. The usual culprit is the contact: the sphere's curvature makes
-        // its Hessian indefinite. Keep only its positive part for this iteration (an exact
-        // Newton step whenever the true tangent is positive definite, which it is at a stable
-        // equilibrium); then, if needed, shift the diagonal.
-        if (!projected && !ev_.contactProjected && options_.projectContactHessian &&
-            ev_.contactTriangles > 0) {
-          projected = true;
-          model_.setProjectContactHessian(true);
-          evaluateAt(x, travel, true, ev_);
-          model_.setProjectContactHessian(false);
-          if (fc)
-            for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
-          continue;
-        }
-        shift = shift == 0 ? 1e-8 * maxDiag : shift * 10.0;
-        if (shift > 1e6 * maxDiag) break;
-      }
-      if (!factored) return fail("tangent matrix could not be made positive definite");
+      std::string why;
+      const auto refresh = [&] {
+        // The contact Hessian's positive part, for this iteration (see factorizeTangent) and
+        // the rest of this solve.
+        projectContact = true;
+        model_.setProjectContactHessian(true);
+        evaluateAt(x, travel, true, ev_);
+        model_.setProjectContactHessian(false);
+        if (fc)
+          for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
+      };
+      if (!factorizeTangent(shift, maxDiag, rep.factorizations, refresh, why)) return fail(why);
       lastPcgIterations_ = 0;
       lastPcgSeconds_ = 0;
       lastPcgFailed_ = false;

@@ -7,6 +7,7 @@
 // −F·s; it borders the tissue's matrix and is eliminated by a Schur complement, so the sparse
 // pattern never changes. A solve that does not converge restores the starting state.
 
+#include <functional>
 #include <string>
 
 #include "mechanics/Model.h"
@@ -20,6 +21,8 @@ class StaticSolver final : public EquilibriumSolver {
   explicit StaticSolver(Model& model, SolverOptions options = {});
 
   SolveReport solve(Points& x, ForceControl* fc = nullptr) override;
+  bool tangentSolve(const Points& x, const Eigen::VectorXd& load,
+                    Eigen::VectorXd& displacement) override;
   SolverOptions& options() override { return options_; }
   const SolverTotals& totals() const override { return totals_; }
   const Evaluation& lastEvaluation() const override { return ev_; }
@@ -30,6 +33,10 @@ class StaticSolver final : public EquilibriumSolver {
 
  private:
   SolveReport solveImpl(Points& x, ForceControl* fc);
+  /// Factorises ev_'s tangent (+ shift·I), first replacing the contact Hessian by its positive
+  /// part (projectContact) and then growing the shift while it is not positive definite.
+  bool factorizeTangent(double& shift, double maxDiag, int& factorizations,
+                        const std::function<void()>& projectContact, std::string& why);
   bool pcg(const SparsePattern& pattern, const std::vector<double>& values,
            const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol, int& iterations);
 
@@ -44,6 +51,7 @@ class StaticSolver final : public EquilibriumSolver {
   int lastPcgIterations_ = 0;  // of the last CG solve on the lagged factor
   double lastPcgSeconds_ = 0;  // its time
   bool lastPcgFailed_ = false;
+  bool projectedLastSolve_ = false;  // the last solve needed the contact Hessian's positive part
   double factorSeconds_ = 0;   // time of one numeric factorisation (the last one)
   SolverTotals totals_;
 };

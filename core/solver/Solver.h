@@ -4,6 +4,7 @@
 // default, solver/Newton.h) and the published method as a reference (implicit Euler with
 // Rayleigh damping and conjugate gradients run until rest, solver/ImplicitEuler.h).
 
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -74,12 +75,24 @@ class EquilibriumSolver {
   /// Solves for equilibrium starting from x (3×V, clamped columns are kept). On success x (and
   /// fc->travel) hold the equilibrium; on failure they are left exactly as given.
   virtual SolveReport solve(Points& x, ForceControl* fc = nullptr) = 0;
+  /// The linear response at x: solves K(x) u = load (3V components; clamped ones ignored, and 0
+  /// in u) with the tangent K at x. False when this solver has no tangent (or it fails).
+  virtual bool tangentSolve(const Points& /*x*/, const Eigen::VectorXd& /*load*/,
+                            Eigen::VectorXd& /*displacement*/) {
+    return false;
+  }
   /// The model evaluated at the last iterate (at the equilibrium after a successful solve).
   virtual const Evaluation& lastEvaluation() const = 0;
   virtual SolverOptions& options() = 0;
   virtual const SolverTotals& totals() const = 0;
   /// Call after the model's clamped unknowns change.
   virtual void patternChanged() {}
+  /// A flag checked at every iteration: when set, the solve stops and fails with "cancelled"
+  /// (the state is left as given). Null: never cancelled.
+  void setCancelFlag(const std::atomic<bool>* flag) { cancel_ = flag; }
+
+ protected:
+  const std::atomic<bool>* cancel_ = nullptr;
 };
 
 std::unique_ptr<EquilibriumSolver> makeSolver(Model& model, const SolverOptions& options);
