@@ -49,8 +49,14 @@ std::vector<std::string_view> splitFields(std::string_view line) {
 
 }  // namespace
 
-std::string curveCsv(const std::vector<CurvePoint>& curve) {
-  std::string s = "depth_um,force_uN,iterations,residual,converged\n";
+std::string curveCsv(const std::vector<CurvePoint>& curve, const std::vector<std::string>& comments) {
+  std::string s;
+  for (const std::string& c : comments) {
+    if (c.find('\n') != std::string::npos)
+      throw std::invalid_argument("curveCsv: a comment line must not hold a line break");
+    s += "# " + c + "\n";
+  }
+  s += "depth_um,force_uN,iterations,residual,converged\n";
   for (const CurvePoint& p : curve) {
     appendReal(s, p.depth);
     s += ',';
@@ -62,8 +68,9 @@ std::string curveCsv(const std::vector<CurvePoint>& curve) {
   return s;
 }
 
-void writeCurveCsv(const std::string& path, const std::vector<CurvePoint>& curve) {
-  writeFileAtomically(path, std::string_view(curveCsv(curve)));
+void writeCurveCsv(const std::string& path, const std::vector<CurvePoint>& curve,
+                   const std::vector<std::string>& comments) {
+  writeFileAtomically(path, std::string_view(curveCsv(curve, comments)));
 }
 
 std::vector<CurvePoint> parseCurveCsv(std::string_view text, const std::string& nameForErrors) {
@@ -82,7 +89,7 @@ std::vector<CurvePoint> parseCurveCsv(std::string_view text, const std::string& 
     const std::string_view line = trim(text.substr(pos, end - pos));
     pos = end + 1;
     ++lineNo;
-    if (line.empty()) continue;
+    if (line.empty() || line.front() == '#') continue;
     const auto fields = splitFields(line);
     if (header.empty()) {
       for (auto f : fields) header.emplace_back(f);

@@ -16,7 +16,7 @@ BendingModel parseBendingModel(const std::string& name);  // "hinge" | "linear" 
 std::string toString(BendingModel m);
 
 struct Material {
-  double youngModulus = 50.0;  // E, MPa
+  double youngModulus = 100.0;  // E, MPa (the defaults of every front end)
   double poissonRatio = 0.49;  // ν
   double thickness = 0.2;      // h, µm
   BendingModel bending = BendingModel::Hinge;

@@ -167,6 +167,13 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points,
   return out;
 }
 
+double meanCellSize(const CellComplex& cc) {
+  if (cc.cellCount() == 0) return 0;
+  double volume = 0;
+  for (double v : cellVolumes(cc, cc.rest)) volume += v;
+  return volume > 0 ? std::cbrt(volume / cc.cellCount()) : 0.0;
+}
+
 std::vector<double> cellVolumes(const CellComplex& cc, const Points& x) {
   std::vector<double> vol(cc.cellCount(), 0.0);
   for (int t = 0; t < cc.triangleCount(); ++t) {

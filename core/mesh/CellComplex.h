@@ -58,6 +58,8 @@ std::vector<Eigen::Vector3i> triangulatePolygon(const Points& points, const std:
 
 /// Signed volume of each cell at positions x (µm³), positive when the walls are wound outward.
 std::vector<double> cellVolumes(const CellComplex& cc, const Points& x);
+/// The typical cell size L = cube root of the mean rest volume of the cells (µm); 0 without cells.
+double meanCellSize(const CellComplex& cc);
 /// Area of each triangle at positions x (µm²).
 std::vector<double> triangleAreas(const CellComplex& cc, const Points& x);
 
