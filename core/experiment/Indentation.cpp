@@ -155,7 +155,7 @@ Indentation::Indentation(Model& model, IndentationSettings settings, SolverOptio
   if (settings_.steps < 1) throw std::invalid_argument("steps must be at least 1");
 }
 
-SolveReport Indentation::prepare() {
+SolveReport Indentation::prepare(const Points* start) {
   prepared_ = false;
   model_.clearProbe();
   const std::vector<double> pressures = model_.cellPressures();
@@ -163,9 +163,17 @@ SolveReport Indentation::prepare() {
   // Turgid rest state, by continuation in the pressure when one step is too much.
   SolveReport rep;
   double reached = 0, step = 1.0;
+  if (start && start->cols() == x.cols() && start->allFinite()) {
+    Points guess = *start;
+    rep = solver_->solve(guess);
+    if (rep.converged) {
+      x = guess;
+      reached = 1.0;
+    }
+  }
   int level = 0;
   bool anyPressure = std::any_of(pressures.begin(), pressures.end(), [](double p) { return p != 0; });
-  if (!anyPressure) {
+  if (!anyPressure && reached < 1.0) {
     rep = solver_->solve(x);
     reached = 1.0;
   }
@@ -196,8 +204,22 @@ SolveReport Indentation::prepare() {
 
   // Site, axis and first contact on the turgid state.
   ProbePlacement& pl = placement_;
-  pl.site = settings_.site ? nearestSurfacePoint(model_, x, *settings_.site, &pl.triangle)
-                           : topSurfacePoint(model_, x, &pl.triangle);
+  if (settings_.restSite) {
+    const Points& X = model_.complex().rest;
+    int t = -1;
+    const Vec3 onRest = nearestSurfacePoint(model_, X, *settings_.restSite, &t);
+    const auto& tri = model_.complex().triangles[t];
+    const Vec3 a = X.col(tri[0]), b = X.col(tri[1]), c = X.col(tri[2]);
+    const Vec3 nrm = (b - a).cross(c - a);
+    const double n2 = std::max(nrm.squaredNorm(), 1e-300);
+    const double wa = (c - b).cross(onRest - b).dot(nrm) / n2;
+    const double wb = (a - c).cross(onRest - c).dot(nrm) / n2;
+    pl.site = wa * x.col(tri[0]) + wb * x.col(tri[1]) + (1 - wa - wb) * x.col(tri[2]);
+    pl.triangle = t;
+  } else {
+    pl.site = settings_.site ? nearestSurfacePoint(model_, x, *settings_.site, &pl.triangle)
+                             : topSurfacePoint(model_, x, &pl.triangle);
+  }
   if (settings_.axis) {
     if (!(settings_.axis->norm() > 0) || !settings_.axis->allFinite())
       throw std::invalid_argument("the probe axis must be a non-zero vector");
@@ -207,7 +229,10 @@ SolveReport Indentation::prepare() {
   }
   pl.contactCenter = firstContactCenter(model_, x, pl.site, pl.axis, settings_.probeRadius);
   ContactLaw law = model_.contactLaw();
-  law.smoothing = 1e-3 * std::min(settings_.probeRadius, model_.meanEdgeLength());
+  // A soft onset over a tenth of the probe radius: triangles entering the contact patch one by
+  // one on a fine mesh then change the tangent gradually (a fifth fewer Newton iterations than
+  // 1e-3 R; the force moves by 0.1 %, far below the discretisation error).
+  law.smoothing = 0.1 * settings_.probeRadius;
   model_.setContactLaw(law);
   model_.setProbe({pl.contactCenter, settings_.probeRadius});
   depth_ = load_ = 0;
@@ -238,11 +263,25 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
     for (size_t j = 0; j < pts.size(); ++j)
       if (j != i) w[i] *= (target - pts[j]->load) / (pts[i]->load - pts[j]->load);
   const bool canExtrapolate = settings_.predictor && pts.size() >= 2;
-  for (int attempt = canExtrapolate ? 0 : 1; attempt < 2; ++attempt) {
-    const bool extrapolate = attempt == 0;
+  // Without two earlier equilibria to extrapolate from (the first step into the tissue), the
+  // tissue's linear response to a point load at the site, scaled to the probe's travel (or to
+  // the force asked): the probe then starts against a dimple of about the right depth instead
+  // of deep inside a flat surface, where a stiff contact term would throw Newton far off.
+  const bool canRespond =
+      settings_.predictor && !canExtrapolate && std::abs(target) > std::abs(load_);
+  for (int attempt = canExtrapolate || canRespond ? 0 : 1; attempt < 2; ++attempt) {
+    const bool predict = attempt == 0;
     Points x = x_;
     double travelGuess = depth_;
-    if (extrapolate) {
+    if (predict && canRespond) {
+      Eigen::VectorXd u;
+      double along = 0;  // µm per µN at the site
+      if (!siteResponse(u, along)) continue;
+      const double scale = forceControl ? target - load_ : (target - depth_) / along;  // µN
+      x = x_ + scale * Eigen::Map<const Points>(u.data(), 3, x_.cols());
+      travelGuess = depth_ + scale * along;
+      if (!x.allFinite()) continue;
+    } else if (predict) {
       x.setZero();
       travelGuess = 0;
       for (size_t i = 0; i < pts.size(); ++i) {
@@ -257,6 +296,16 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
     SolveReport rep;
     double travel = depth_;
     if (forceControl) {
+      // First the equilibrium at the predicted travel (displacement control is the robust
+      // one: the probe cannot run ahead of the tissue), then the force from there.
+      if (predict) {
+        model_.setProbe({placement_.contactCenter + travelGuess * placement_.axis,
+                         settings_.probeRadius});
+        Points y = x;
+        const SolveReport at = solver_->solve(y);
+        iterations += at.iterations;
+        if (at.converged) x = y;
+      }
       ForceControl fc;
       fc.origin = placement_.contactCenter;
       fc.axis = placement_.axis;
@@ -283,6 +332,28 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
   // Leave the probe where the last equilibrium has it.
   model_.setProbe({placement_.contactCenter + depth_ * placement_.axis, settings_.probeRadius});
   return false;
+}
+
+bool Indentation::siteResponse(Eigen::VectorXd& u, double& along) {
+  const CellComplex& cc = model_.complex();
+  const auto& tri = cc.triangles[placement_.triangle];
+  // Barycentric weights, in its turgid triangle, of the point the probe is on now.
+  const Vec3 a = x_.col(tri[0]), b = x_.col(tri[1]), c = x_.col(tri[2]);
+  const Vec3 n = (b - a).cross(c - a);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 0)) return false;
+  const Vec3 p = placement_.contactCenter + (depth_ + settings_.probeRadius) * placement_.axis;
+  Vec3 w((c - b).cross(p - b).dot(n) / n2, (a - c).cross(p - c).dot(n) / n2, 0.0);
+  w[2] = 1.0 - w[0] - w[1];
+  w = w.cwiseMax(0.0);
+  if (!(w.sum() > 0)) return false;
+  w /= w.sum();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * cc.vertexCount());
+  for (int k = 0; k < 3; ++k) f.segment<3>(3 * tri[k]) = w[k] * placement_.axis;
+  if (!solver_->tangentSolve(x_, f, u)) return false;
+  along = 0;
+  for (int k = 0; k < 3; ++k) along += w[k] * placement_.axis.dot(u.segment<3>(3 * tri[k]));
+  return along > 0 && std::isfinite(along);
 }
 
 void Indentation::remember() {
@@ -329,27 +400,100 @@ CurvePoint Indentation::goToDepth(double depth) {
   return advance(depth, false);
 }
 
+CurvePoint Indentation::solveFrom(double target, bool forceControl, Points guess,
+                                  double travel) {
+  if (!prepared_) throw std::logic_error("Indentation::prepare() must succeed first");
+  if (!std::isfinite(target) || !std::isfinite(travel) || guess.cols() != x_.cols() ||
+      !guess.allFinite())
+    throw std::invalid_argument("solveFrom: a finite target and a guess of this tissue's size");
+  const auto& fixed = model_.complex().fixed;
+  for (int v = 0; v < guess.cols(); ++v)
+    if (fixed[v]) guess.col(v) = x_.col(v);
+  if (!forceControl) travel = target;
+  // Displacement control at the travel guessed, then (force control) the force from there.
+  model_.setProbe({placement_.contactCenter + travel * placement_.axis, settings_.probeRadius});
+  SolveReport rep = solver_->solve(guess);
+  int iterations = rep.iterations;
+  if (rep.converged && forceControl) {
+    ForceControl fc;
+    fc.origin = placement_.contactCenter;
+    fc.axis = placement_.axis;
+    fc.force = target;
+    fc.travel = travel;
+    rep = solver_->solve(guess, &fc);
+    iterations += rep.iterations;
+    travel = fc.travel;
+  }
+  if (!rep.converged) {  // the guess was not good enough: nothing changes
+    model_.setProbe({placement_.contactCenter + depth_ * placement_.axis, settings_.probeRadius});
+    message_ = rep.message;
+    CurvePoint failed;
+    failed.iterations = iterations;
+    failed.residual = rep.relativeResidual();
+    failed.depth = forceControl ? depth_ : target;
+    failed.force = std::numeric_limits<double>::quiet_NaN();
+    return failed;
+  }
+  x_ = guess;
+  depth_ = travel;
+  load_ = target;
+  forceMode_ = forceControl;
+  history_.clear();
+  remember();
+  CurvePoint pt;
+  pt.converged = true;
+  pt.depth = depth_;
+  pt.force = probeForce();
+  pt.iterations = iterations;
+  pt.residual = rep.relativeResidual();
+  return pt;
+}
+
 CurvePoint Indentation::applyForce(double force) {
   if (!std::isfinite(force)) throw std::invalid_argument("force must be finite");
   return advance(force, true);
 }
 
-std::vector<CurvePoint> Indentation::run(const std::function<void(int, int)>& progress,
+void Indentation::setSchedule(const IndentationSettings& s) {
+  if (s.steps < 1) throw std::invalid_argument("steps must be at least 1");
+  settings_.control = s.control;
+  settings_.maxDepth = s.maxDepth;
+  settings_.maxForce = s.maxForce;
+  settings_.steps = s.steps;
+  settings_.unload = s.unload;
+}
+
+std::vector<double> scheduleTargets(const IndentationSettings& settings) {
+  std::vector<double> targets;
+  const double top = settings.control == Control::Force ? settings.maxForce : settings.maxDepth;
+  for (int k = 1; k <= settings.steps; ++k) targets.push_back(top * k / settings.steps);
+  if (settings.unload)
+    for (int k = settings.steps - 1; k >= 0; --k) targets.push_back(top * k / settings.steps);
+  return targets;
+}
+
+std::vector<CurvePoint> Indentation::run(const PointCallback& onPoint,
                                          const std::atomic<bool>* cancel) {
-  std::vector<double> schedule;
+  const std::vector<double> schedule = scheduleTargets(settings_);
   const bool force = settings_.control == Control::Force;
-  const double top = force ? settings_.maxForce : settings_.maxDepth;
-  for (int k = 1; k <= settings_.steps; ++k) schedule.push_back(top * k / settings_.steps);
-  if (settings_.unload)
-    for (int k = settings_.steps - 1; k >= 0; --k) schedule.push_back(top * k / settings_.steps);
+  solver_->setCancelFlag(cancel);
+  struct Reset {
+    EquilibriumSolver& s;
+    ~Reset() { s.setCancelFlag(nullptr); }
+  } reset{*solver_};
   std::vector<CurvePoint> curve;
+  if (depth_ != 0.0 || forceMode_) {  // back to first contact (a drag may have left it pressed)
+    const CurvePoint start = goToDepth(0.0);
+    if (!start.converged) return curve;
+  }
   curve.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
   for (size_t i = 0; i < schedule.size(); ++i) {
     if (cancel && cancel->load()) break;
     CurvePoint pt = force ? applyForce(schedule[i]) : goToDepth(schedule[i]);
     pt.unloading = settings_.unload && i >= static_cast<size_t>(settings_.steps);
+    if (!pt.converged && cancel && cancel->load()) break;  // cancelled mid-solve: not a point
     curve.push_back(pt);
-    if (progress) progress(static_cast<int>(i + 1), static_cast<int>(schedule.size()));
+    if (onPoint) onPoint(pt, static_cast<int>(i + 1), static_cast<int>(schedule.size()));
     if (!pt.converged) break;
   }
   return curve;

@@ -35,6 +35,9 @@ enum class Control { Depth, Force };
 struct IndentationSettings {
   double probeRadius = 1.0;         // µm
   std::optional<Vec3> site;         // µm; nearest outer-surface point is used; default: the top
+  // µm: a material point of the outer surface given by its rest position; the site is where it
+  // is in the turgid state (overrides `site`; used to keep one material point across meshes).
+  std::optional<Vec3> restSite;
   std::optional<Vec3> axis;         // into the tissue; default: inward surface normal at the site
   Control control = Control::Depth;
   double maxDepth = 0.5;            // µm (depth control)
@@ -46,6 +49,10 @@ struct IndentationSettings {
   // equilibrium with only the probe moved (false: what the published method did).
   bool predictor = true;
 };
+
+/// The control values of the schedule in order: `steps` equal steps up to the maximum depth (or
+/// force), then, when unloading, back down to zero.
+std::vector<double> scheduleTargets(const IndentationSettings& settings);
 
 /// Where the probe touches: site on the surface, unit axis into the tissue, and the probe centre
 /// at first contact.
@@ -79,17 +86,26 @@ class Indentation {
   Indentation(Model& model, IndentationSettings settings, SolverOptions solverOptions = {});
 
   /// Solves the turgid rest state (continuation in pressure if needed) and places the probe.
-  SolveReport prepare();
+  /// `start`, when given, is a guess of the turgid state (e.g. a coarser tissue's turgid state
+  /// carried onto this one): Newton starts there, and falls back to continuation from rest.
+  SolveReport prepare(const Points* start = nullptr);
   bool prepared() const { return prepared_; }
 
   /// Displacement control: moves the probe to `depth` and solves (warm start, sub-steps).
   CurvePoint goToDepth(double depth);
   /// Force control: applies `force` with the probe travel as an unknown.
   CurvePoint applyForce(double force);
+  /// Straight to `target` (a depth, or a force under force control) from a guess of the state
+  /// and of the probe's travel, e.g. an equilibrium of another mesh of the tissue carried over.
+  /// A guess that does not converge leaves everything as it was (the point is not converged).
+  CurvePoint solveFrom(double target, bool forceControl, Points guess, double travel);
 
-  /// The whole schedule. `progress(done, total)` is called after each point; setting `cancel`
-  /// stops after the current point.
-  std::vector<CurvePoint> run(const std::function<void(int, int)>& progress = {},
+  /// Called with each point of a run as it is solved, and how many of how many are done.
+  using PointCallback = std::function<void(const CurvePoint&, int done, int total)>;
+  /// The whole schedule from depth 0 (where a drag may have left the probe, it goes back first).
+  /// `cancel` is checked at every Newton iteration: a cancelled run ends with the points done,
+  /// the last state kept.
+  std::vector<CurvePoint> run(const PointCallback& onPoint = {},
                               const std::atomic<bool>* cancel = nullptr);
 
   const Points& turgidState() const { return turgid_; }
@@ -98,11 +114,18 @@ class Indentation {
   const ProbePlacement& placement() const { return placement_; }
   const std::string& lastMessage() const { return message_; }
   const IndentationSettings& settings() const { return settings_; }
+  /// Takes the schedule (control, maximum depth and force, steps, unloading) of `s`; the probe
+  /// and the site stay as prepared.
+  void setSchedule(const IndentationSettings& s);
   Model& model() { return model_; }
   EquilibriumSolver& solver() { return *solver_; }
 
  private:
   bool solveAt(double target, bool forceControl, int& iterations, double& residual);
+  /// The tangent response u (3V) of the state x_ to a unit point load along the axis at the
+  /// probe's point, and how far that point moves along the axis (µm per µN). False when the
+  /// solver has no tangent to offer.
+  bool siteResponse(Eigen::VectorXd& u, double& along);
   void remember();  // pushes the current equilibrium onto the predictor's history
   CurvePoint advance(double target, bool forceControl);
   double probeForce() const;

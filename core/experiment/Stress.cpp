@@ -42,4 +42,34 @@ StressField computeStress(const Model& model, const Points& x) {
   return f;
 }
 
+StateFields stateFields(const Model& model, const Points& x, const Points& turgid) {
+  const CellComplex& cc = model.complex();
+  if (x.cols() != cc.vertexCount() || turgid.cols() != cc.vertexCount())
+    throw std::invalid_argument("stateFields: positions do not match the tissue");
+  const StressField st = computeStress(model, x);
+  StateFields out;
+  VtuField sigma{"cauchy_stress_MPa", 9, {}}, s1{"principal_max_MPa", 1, {}},
+      s2{"principal_min_MPa", 1, {}}, vm{"von_mises_MPa", 1, {}},
+      sed{"strain_energy_density_MPa", 1, {}}, bend{"bending_energy_density_MPa", 1, {}};
+  for (size_t t = 0; t < st.triangles.size(); ++t) {
+    const auto& ts = st.triangles[t];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) sigma.values.push_back(ts.cauchy(i, j));
+    s1.values.push_back(ts.principalMax);
+    s2.values.push_back(ts.principalMin);
+    vm.values.push_back(ts.vonMises);
+    sed.values.push_back(ts.energyDensity);
+    bend.values.push_back(st.bendingEnergyDensity[t]);
+  }
+  out.triangles = {sigma, s1, s2, vm, sed, bend};
+  VtuField disp{"displacement_um", 3, {}}, dispRest{"displacement_from_rest_um", 3, {}};
+  for (int v = 0; v < cc.vertexCount(); ++v)
+    for (int k = 0; k < 3; ++k) {
+      disp.values.push_back(x(k, v) - turgid(k, v));
+      dispRest.values.push_back(x(k, v) - cc.rest(k, v));
+    }
+  out.points = {disp, dispRest};
+  return out;
+}
+
 }  // namespace tp

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "io/Vtu.h"
 #include "mechanics/Model.h"
 
 namespace tp {
@@ -24,5 +25,13 @@ struct StressField {
 };
 
 StressField computeStress(const Model& model, const Points& x);
+
+/// The fields of a state for export (VTU): per vertex the displacement from the turgid state and
+/// from rest (µm); per triangle the Cauchy stress (9 components), maximum and minimum principal
+/// stress, von Mises stress, membrane and bending energy densities (MPa).
+struct StateFields {
+  std::vector<VtuField> points, triangles;
+};
+StateFields stateFields(const Model& model, const Points& x, const Points& turgid);
 
 }  // namespace tp

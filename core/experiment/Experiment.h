@@ -1,0 +1,189 @@
+#pragma once
+// The indentation workflow, written once for every front end (tissueprobe-cli, the application,
+// the benchmarks): the tissue at rest under its turgor pressure, the site chosen on it, the mesh
+// refined around the site level by level (graded, tissue/Refine.h), the rest state and first
+// contact on that mesh, the curve, and its discretisation error estimated from the next finer
+// level of the same family (the grid convergence index of Roache 1994 with an assumed order).
+// Units: µm, MPa, µN.
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "experiment/Indentation.h"
+#include "mechanics/Model.h"
+#include "solver/Solver.h"
+#include "tissue/Refine.h"
+
+namespace tp {
+
+/// How the mesh at the site is chosen. Level 0 is the tissue as given; level L ≥ 1 refines it
+/// around the site (siteRefinement()).
+struct MeshSettings {
+  bool automatic = true;      // refine level by level until the estimated error ≤ tolerance
+  int level = 3;              // the fixed level; when automatic, the first level tried
+  double tolerance = 0.03;    // relative error of the end value (see Experiment::endValue)
+  bool estimateError = true;  // estimate the error of a fixed level too (costs a finer run)
+  int maxLevel = 6;
+  double grading = 1.5;       // the target edge grows by 1/grading per µm away from the site
+};
+
+/// The graded refinement of level L ≥ 1 around a material point of the rest surface: longest
+/// edges of R·2^(1−L) (R the probe radius) within R of it (the contact patch up to depths of
+/// R/2), growing by 2^(3−L)/grading per µm beyond, on the whole of every wall reaching within
+/// one cell size (at least 4 R) of that radius. Each level halves the target size everywhere in
+/// that zone; the walls beyond keep the tissue's own triangles.
+GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
+                                int level, double grading);
+
+struct ExperimentSettings {
+  Material material;
+  double pressure = 0.8;            // MPa, every cell
+  IndentationSettings indentation;  // probe, site, axis, schedule
+  MeshSettings mesh;
+  SolverOptions solver;
+
+  /// Throws std::invalid_argument naming the first value out of its range, and the range.
+  void validate() const;
+};
+
+/// The estimated discretisation error of an end value at one level, from the next finer level.
+struct MeshError {
+  std::vector<std::pair<int, double>> values;  // (level, end value): the level, then the finer
+  double order = 0;     // the order of convergence assumed
+  double relative = -1; // estimated |error| / |value| at the level; < 0: not estimated
+  std::string method;   // how it was estimated, for reports
+  bool estimated() const { return relative >= 0; }
+  int level() const { return values.empty() ? -1 : values.front().first; }
+  double value() const { return values.empty() ? 0.0 : values.front().second; }
+};
+
+/// The error of `value` at `level` from the end value at the next finer level. Levels halve the
+/// mesh near the site, and the hinge bending model converges at about first order on graded
+/// meshes (p ≈ 1.2 measured, tests/experiment), so first order is assumed: the remaining error
+/// is at most 2 |F_L − F_{L+1}|, reported with Roache's safety factor 1.25 (Roache 1994, the
+/// grid convergence index with p = 1).
+MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue);
+
+/// A site prepared on one mesh level: the (refined) tissue, its model, its rest state under
+/// turgor and the probe touching it.
+struct PreparedSite {
+  int level = 0;
+  std::shared_ptr<const RefinedComplex> mesh;    // the tissue refined at the site, on its base
+  std::shared_ptr<const CellComplex> complex;    // = mesh->complex
+  RefineReport refinement;
+  SolveReport rest;                          // the rest state's solve
+  std::unique_ptr<Model> model;
+  std::unique_ptr<Indentation> indentation;  // prepared; destroyed before the model
+  double seconds = 0;                        // refinement + rest state + first contact
+};
+
+/// A solution on another mesh of the same tissue to start from: the mesh, its rest state under
+/// turgor and (when `end` is not empty) its state at the schedule's end point, with the
+/// probe's travel there. Carried over by transferPositions(), it saves most Newton iterations.
+struct Seed {
+  std::shared_ptr<const RefinedComplex> mesh;
+  Points rest, end;
+  double travel = 0;
+};
+
+/// Hears what the workflow does and may stop it.
+struct Monitor {
+  std::function<void(const std::string&)> stage;  // a stage begins ("Solving the rest state…")
+  Indentation::PointCallback point;                // a point of the curve being run
+  const std::atomic<bool>* cancel = nullptr;       // checked at every Newton iteration
+  bool cancelled() const { return cancel && cancel->load(); }
+  void say(const std::string& what) const {
+    if (stage) stage(what);
+  }
+};
+
+/// A solve the workflow needs did not converge (the message says which and why).
+struct SolveFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+/// The monitor's cancel flag was set.
+struct Cancelled : std::runtime_error {
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
+struct ExperimentResult {
+  std::vector<CurvePoint> curve;         // from depth 0; ends early on failure or cancel
+  bool complete = false;                 // every point of the schedule converged
+  bool cancelled = false;
+  MeshError error;                       // of the curve's end value
+  bool withinTolerance = false;          // error.relative ≤ tolerance
+  std::unique_ptr<PreparedSite> site;    // the mesh and the final state of the curve
+  std::string message;                   // why the curve ended early, or a warning
+};
+
+class Experiment {
+ public:
+  /// `tissue` must be a valid complex with some clamped vertex (checked by prepareBase).
+  Experiment(std::shared_ptr<const CellComplex> tissue, ExperimentSettings settings);
+  ~Experiment();
+
+  const ExperimentSettings& settings() const { return settings_; }
+  /// New settings. The rest state is kept when material and pressure are unchanged; the site
+  /// and the cached end values are recomputed when anything they depend on changed.
+  void setSettings(ExperimentSettings settings);
+
+  const std::shared_ptr<const CellComplex>& tissue() const { return tissue_; }
+  double cellSize() const { return cellSize_; }
+
+  /// The tissue as given at rest under its turgor pressure (solved once), and the site on it:
+  /// the outer-surface point nearest to `indentation.site` (default: the top), remembered as a
+  /// material point (`indentation.restSite` when given). Throws SolveFailure or Cancelled.
+  void prepareBase(const Monitor& monitor = {});
+  bool basePrepared() const { return baseReady_; }
+  const Model& baseModel() const;
+  const Points& baseRestState() const { return baseTurgid_; }
+  const Vec3& restSite() const { return restSite_; }
+  /// The probe's axis on every level: as asked, or the inward normal of the tissue as given.
+  const Vec3& axis() const { return axis_; }
+  const SolveReport& baseReport() const { return baseReport_; }
+
+  /// The site prepared on the mesh of `level`: refinement, rest state (from the base's, carried
+  /// onto the new vertices), first contact. Throws SolveFailure or Cancelled.
+  std::unique_ptr<PreparedSite> prepareSite(int level, const Monitor& monitor = {},
+                                            const Seed* seed = nullptr);
+
+  /// The end value of the schedule at a level: the force at the deepest point (depth control)
+  /// or the depth at the largest force (force control), from a short run (at most 4 steps),
+  /// remembered per level. Throws SolveFailure or Cancelled.
+  double endValue(int level, const Monitor& monitor = {}, const Seed* seed = nullptr);
+  /// Records an end value found otherwise (from a full curve at that level).
+  void rememberEndValue(int level, double value) { endValues_[level] = value; }
+  /// The error of `value` at `level` from the end value of the next finer level (computed when
+  /// not yet known). A finer level that fails leaves the error not estimated.
+  MeshError estimateError(int level, double value, const Monitor& monitor = {},
+                          const Seed* seed = nullptr);
+
+  /// The whole workflow: the curve at the fixed level, or (automatic) at the first level whose
+  /// estimated error is within tolerance (up to maxLevel), with its error. Failures of the
+  /// curve are reported in the result; failures before it (rest state, preparation) throw.
+  ExperimentResult run(const Monitor& monitor = {});
+
+ private:
+  void checkCancel(const Monitor& m) const;
+  Vec3 transferPoint(const Vec3& rest) const;  // a rest surface point in the base turgid state
+
+  std::shared_ptr<const CellComplex> tissue_;
+  ExperimentSettings settings_;
+  double cellSize_ = 0;
+  std::unique_ptr<Model> baseModel_;
+  Points baseTurgid_;
+  SolveReport baseReport_;
+  bool baseReady_ = false;
+  Vec3 restSite_ = Vec3::Zero();
+  Vec3 axis_ = -Vec3::UnitZ();
+  std::map<int, double> endValues_;
+  std::shared_ptr<const RefinedComplex> unrefined_;  // the tissue as a refinement of itself
+};
+
+}  // namespace tp
