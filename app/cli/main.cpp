@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include <string>
 
 #include "experiment/Analysis.h"
+#include "experiment/Experiment.h"
 #include "experiment/Indentation.h"
 #include "experiment/Stress.h"
 #include "io/Centroids.h"
@@ -25,7 +27,6 @@
 #include "mesh/Quality.h"
 #include "tissue/Meristem.h"
 #include "tissue/RealTissue.h"
-#include "tissue/Refine.h"
 #include "tissue/Shapes.h"
 
 namespace {
@@ -76,146 +77,148 @@ struct IndentArgs {
   int steps = 10;
   bool unload = false;
   bool noPredictor = false;
-  int refine = 0;
-  double refineRadius = 0;
+  std::string refine = "auto";
+  double meshTolerance = 0.03;
   std::string csv, vtu;
   double tolerance = 1e-8;
   std::string solver = "newton";
   bool verbose = false, quiet = false;
 };
 
-int runIndent(const IndentArgs& a) {
-  if (a.depth && a.force) throw UsageError("give --depth or --force, not both");
-  if (a.steps < 1) throw UsageError("--steps must be at least 1 (got " + std::to_string(a.steps) + ")");
-  const std::string meshPath = a.mesh.empty() ? defaultTissuePath() : a.mesh;
-  auto cc = std::make_shared<CellComplex>(loadTissue(meshPath));
-  std::optional<Vec3> site;
-  if (!a.site.empty()) site = parseVec3(a.site, "--site");
-  if (a.refine < 0 || a.refine > 6)
-    throw UsageError("--refine must be between 0 and 6 (got " + std::to_string(a.refine) + ")");
-
-  Material mat;
-  mat.youngModulus = a.E;
-  mat.poissonRatio = a.nu;
-  mat.thickness = a.thickness;
-  mat.bending = parseBendingModel(a.bending);
-  mat.validate();
-  if (!std::isfinite(a.pressure)) throw UsageError("--pressure must be finite");
-  IndentationSettings s;
+ExperimentSettings experimentSettings(const IndentArgs& a) {
+  ExperimentSettings x;
+  x.material.youngModulus = a.E;
+  x.material.poissonRatio = a.nu;
+  x.material.thickness = a.thickness;
+  x.material.bending = parseBendingModel(a.bending);
+  x.pressure = a.pressure;
+  IndentationSettings& s = x.indentation;
   s.probeRadius = a.probeRadius;
-  s.site = site;
+  if (!a.site.empty()) s.site = parseVec3(a.site, "--site");
   if (!a.axis.empty()) s.axis = parseVec3(a.axis, "--axis");
   s.steps = a.steps;
   s.unload = a.unload;
   s.predictor = !a.noPredictor;
   if (a.force) {
-    if (!(std::isfinite(*a.force) && *a.force > 0)) throw UsageError("--force must be positive");
     s.control = Control::Force;
     s.maxForce = *a.force;
   } else {
     s.maxDepth = a.depth.value_or(0.5);
-    if (!(std::isfinite(s.maxDepth) && s.maxDepth > 0)) throw UsageError("--depth must be positive");
   }
-  if (a.refine > 0) {
-    // Find the site on the turgid unrefined tissue, refine the rest mesh around that material
-    // point, and indent the refined tissue at the same place.
-    Model coarse(cc, mat);
-    coarse.setUniformPressure(a.pressure);
-    Indentation probe(coarse, s);
-    probe.prepare();
-    if (!probe.prepared()) {
-      std::fprintf(stderr, "error: %s\n", probe.lastMessage().c_str());
-      return 3;
+  if (a.refine == "auto") {
+    x.mesh.automatic = true;
+  } else {
+    x.mesh.automatic = false;
+    try {
+      size_t used = 0;
+      x.mesh.level = std::stoi(a.refine, &used);
+      if (used != a.refine.size()) throw std::invalid_argument(a.refine);
+    } catch (const std::exception&) {
+      throw UsageError("--refine: expected auto or a level 0-" +
+                       std::to_string(x.mesh.maxLevel) + ", got '" + a.refine + "'");
     }
-    const ProbePlacement& pl = probe.placement();
-    const Vec3 at = restPositionOf(coarse, probe.turgidState(), pl.site, pl.triangle);
-    // Default radius: the larger of three probe radii and one cell, so the walls under the probe
-    // are refined whole.
-    double volume = 0;
-    for (double v : cellVolumes(*cc, cc->rest)) volume += v;
-    const double cell = cc->cellCount() ? std::cbrt(volume / cc->cellCount()) : 0.0;
-    const double radius = a.refineRadius > 0 ? a.refineRadius : std::max(3.0 * a.probeRadius, cell);
-    RefineReport rr;
-    cc = std::make_shared<CellComplex>(refineNear(*cc, at, radius, a.refine, &rr));
-    s.site = pl.site;
-    if (!a.quiet)
-      std::printf("# refined %d level(s) within %g um of the site: %d vertices (+%d), %d "
-                  "triangles, min angle %.2f deg\n",
-                  a.refine, radius, cc->vertexCount(), rr.addedVertices, cc->triangleCount(),
-                  rr.minAngleDeg);
   }
-  Model model(cc, mat);
-  model.setUniformPressure(a.pressure);
-
-  SolverOptions so;
-  so.kind = parseSolverKind(a.solver);
-  if (so.kind == SolverKind::ImplicitEulerCG && a.force)
+  x.mesh.tolerance = a.meshTolerance;
+  x.solver.kind = parseSolverKind(a.solver);
+  if (x.solver.kind == SolverKind::ImplicitEulerCG && a.force)
     throw UsageError("--solver implicit-euler-cg supports --depth only");
-  so.tolerance = a.tolerance;
-  so.verbose = a.verbose;
-  Indentation ind(model, s, so);
+  x.solver.tolerance = a.tolerance;
+  x.solver.verbose = a.verbose;
+  x.validate();
+  return x;
+}
 
+/// "±1.2 % of the force at 0.5 um (grid convergence index of levels 1-3, ...)".
+std::string describeError(const MeshError& e, const ExperimentSettings& s) {
+  std::ostringstream out;
+  const bool force = s.indentation.control == Control::Force;
+  if (!e.estimated()) {
+    out << "estimated discretisation error: " << e.method;
+    return out.str();
+  }
+  out.precision(2);
+  out << "estimated discretisation error +-" << std::fixed << 100 * e.relative << " % of the "
+      << (force ? "depth at " : "force at ");
+  out.unsetf(std::ios::fixed);
+  out.precision(6);
+  out << (force ? s.indentation.maxForce : s.indentation.maxDepth) << (force ? " uN" : " um")
+      << " (" << e.method << ")";
+  return out.str();
+}
+
+int runIndent(const IndentArgs& a) {
+  if (a.depth && a.force) throw UsageError("give --depth or --force, not both");
+  const std::string meshPath = a.mesh.empty() ? defaultTissuePath() : a.mesh;
+  const ExperimentSettings settings = experimentSettings(a);
+  auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
+  Experiment experiment(cc, settings);
+  const Material& mat = settings.material;
   if (!a.quiet) {
     std::printf("# tissue %s: %d cells, %d vertices, %d triangles\n", meshPath.c_str(),
                 cc->cellCount(), cc->vertexCount(), cc->triangleCount());
     std::printf("# E = %g MPa, nu = %g, h = %g um, p = %g MPa, bending %s, probe radius %g um\n",
-                mat.youngModulus, mat.poissonRatio, mat.thickness, a.pressure,
-                toString(mat.bending).c_str(), s.probeRadius);
+                mat.youngModulus, mat.poissonRatio, mat.thickness, settings.pressure,
+                toString(mat.bending).c_str(), settings.indentation.probeRadius);
   }
-  const SolveReport rest = ind.prepare();
-  if (!ind.prepared()) {
-    std::fprintf(stderr, "error: %s\n", ind.lastMessage().c_str());
+  Monitor monitor;
+  const auto started = std::chrono::steady_clock::now();
+  if (!a.quiet)
+    monitor.stage = [&](const std::string& what) {
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      std::fprintf(stderr, "[%6.2f s] %s\n", t, what.c_str());
+    };
+  ExperimentResult r;
+  try {
+    r = experiment.run(monitor);
+  } catch (const SolveFailure& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
     return 3;
   }
+  const PreparedSite& site = *r.site;
+  const Indentation& ind = *site.indentation;
   const ProbePlacement& pl = ind.placement();
+  std::vector<std::string> comments;
+  {
+    std::ostringstream m;
+    m << "mesh level " << site.level << (settings.mesh.automatic ? " (auto, tolerance " : " (fixed")
+      << (settings.mesh.automatic ? std::to_string(settings.mesh.tolerance) + ")" : ")") << ": "
+      << site.complex->vertexCount() << " vertices, " << site.complex->triangleCount()
+      << " triangles, smallest angle " << site.refinement.minAngleDeg << " deg";
+    comments.push_back(m.str());
+    comments.push_back(describeError(r.error, settings));
+    std::ostringstream w;
+    w << "site " << pl.site.x() << "," << pl.site.y() << "," << pl.site.z() << " um, axis "
+      << pl.axis.x() << "," << pl.axis.y() << "," << pl.axis.z() << "; E " << mat.youngModulus
+      << " MPa, nu " << mat.poissonRatio << ", h " << mat.thickness << " um, p "
+      << settings.pressure << " MPa, bending " << toString(mat.bending) << ", probe radius "
+      << settings.indentation.probeRadius << " um";
+    comments.push_back(w.str());
+  }
   if (!a.quiet) {
-    std::printf("# turgid state: %d Newton iterations, relative residual %.2e\n", rest.iterations,
-                rest.relativeResidual());
-    std::printf("# site (%.4g, %.4g, %.4g) um, axis (%.4f, %.4f, %.4f)\n", pl.site.x(),
-                pl.site.y(), pl.site.z(), pl.axis.x(), pl.axis.y(), pl.axis.z());
+    std::printf("# rest state: %d Newton iterations, relative residual %.2e\n",
+                site.rest.iterations, site.rest.relativeResidual());
+    for (const auto& c : comments) std::printf("# %s\n", c.c_str());
     std::printf("%10s %12s %6s %10s %s\n", "depth_um", "force_uN", "iters", "residual",
                 "converged");
-  }
-  const auto curve = ind.run([&](int, int) {}, nullptr);
-  if (!a.quiet)
-    for (const auto& p : curve)
+    for (const auto& p : r.curve)
       std::printf("%10.5f %12.6g %6d %10.2e %s%s\n", p.depth, p.force, p.iterations, p.residual,
                   p.converged ? "yes" : "NO", p.unloading ? "  (unloading)" : "");
-  if (!a.csv.empty()) writeCurveCsv(a.csv, curve);
+  }
+  if (!a.csv.empty()) writeCurveCsv(a.csv, r.curve, comments);
   if (!a.vtu.empty()) {
-    const StressField st = computeStress(model, ind.state());
-    const int T = cc->triangleCount(), V = cc->vertexCount();
-    VtuField sigma{"cauchy_stress_MPa", 9, {}}, s1{"principal_max_MPa", 1, {}},
-        s2{"principal_min_MPa", 1, {}}, vm{"von_mises_MPa", 1, {}}, sed{"strain_energy_density_MPa", 1, {}},
-        bend{"bending_energy_density_MPa", 1, {}};
-    for (int t = 0; t < T; ++t) {
-      const auto& ts = st.triangles[t];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) sigma.values.push_back(ts.cauchy(i, j));
-      s1.values.push_back(ts.principalMax);
-      s2.values.push_back(ts.principalMin);
-      vm.values.push_back(ts.vonMises);
-      sed.values.push_back(ts.energyDensity);
-      bend.values.push_back(st.bendingEnergyDensity[t]);
-    }
-    VtuField disp{"displacement_um", 3, {}}, dispRest{"displacement_from_rest_um", 3, {}};
-    for (int v = 0; v < V; ++v)
-      for (int k = 0; k < 3; ++k) {
-        disp.values.push_back(ind.state()(k, v) - ind.turgidState()(k, v));
-        dispRest.values.push_back(ind.state()(k, v) - cc->rest(k, v));
-      }
-    writeVtu(a.vtu, *cc, ind.state(), {disp, dispRest}, {sigma, s1, s2, vm, sed, bend});
+    const StateFields f = stateFields(*site.model, ind.state(), ind.turgidState());
+    writeVtu(a.vtu, *site.complex, ind.state(), f.points, f.triangles);
   }
-  const bool ok = !curve.empty() && curve.back().converged;
-  if (!a.quiet) {
-    const double Eapp = hertzApparentModulus(curve, s.probeRadius, mat.poissonRatio);
+  if (!a.quiet && r.complete) {
+    const double Eapp = hertzApparentModulus(r.curve, settings.indentation.probeRadius, mat.poissonRatio);
     std::printf("# secant stiffness %.6g uN/um, Hertz apparent modulus %.6g MPa\n",
-                secantStiffness(curve), Eapp);
+                secantStiffness(r.curve), Eapp);
   }
-  if (!ok) {
-    std::fprintf(stderr, "error: %s\n", ind.lastMessage().c_str());
+  if (!r.complete) {
+    std::fprintf(stderr, "error: %s\n", r.message.c_str());
     return 3;
   }
+  if (!r.message.empty()) std::fprintf(stderr, "warning: %s\n", r.message.c_str());
   return 0;
 }
 
@@ -342,12 +345,15 @@ int main(int argc, char** argv) {
                    "Start each step from the last equilibrium with the probe moved (as the "
                    "published method did) instead of extrapolating from the last three");
   indent->add_option("--refine", ia.refine,
-                     "Subdivide the walls near the site this many times (each triangle into four, "
-                     "conforming transitions)")
+                     "Mesh at the site: auto (refine level by level until the estimated "
+                     "discretisation error is within --mesh-tolerance) or a fixed level (0 = the "
+                     "tissue as given; level L has triangles of probe radius / 2^(L-1) under the "
+                     "probe, graded out to the tissue's own)")
       ->capture_default_str();
-  indent->add_option("--refine-radius", ia.refineRadius,
-                     "Radius of the refined region around the site, um (default: the larger of 3 "
-                     "probe radii and one cell size)");
+  indent->add_option("--mesh-tolerance", ia.meshTolerance,
+                     "Relative discretisation error asked of --refine auto (of the force at the "
+                     "deepest point, or the depth at the largest force)")
+      ->capture_default_str();
   indent->add_option("--csv", ia.csv, "Write the curve as CSV (depth_um,force_uN,iterations,"
                                       "residual,converged)");
   indent->add_option("--vtu", ia.vtu,

@@ -57,7 +57,7 @@ TEST(Cli, HelpNamesEveryOptionWithUnits) {
   EXPECT_EQ(r.status, 0);
   for (const char* opt : {"--mesh", "--E", "--nu", "--thickness", "--pressure", "--bending",
                           "--probe-radius", "--site", "--axis", "--depth", "--force", "--steps",
-                          "--unload", "--csv", "--vtu", "--refine", "--refine-radius", "--solver"})
+                          "--unload", "--csv", "--vtu", "--refine", "--mesh-tolerance", "--solver"})
     EXPECT_THAT(r.output, HasSubstr(opt));
   for (const char* unit : {"MPa", "um", "uN"}) EXPECT_THAT(r.output, HasSubstr(unit));
 }
@@ -96,10 +96,15 @@ TEST(Cli, ForceControlAndUnloading) {
 
 TEST(Cli, ReferenceSolverGivesTheSameCurve) {
   const std::string a = tmp("newton.csv"), b = tmp("euler.csv");
-  ASSERT_EQ(cli("indent --mesh " + smallTissue() + " --depth 0.06 --steps 3 --csv " + a).status, 0);
+  // On the tissue as given (--refine 0), as the published method was.
+  ASSERT_EQ(
+      cli("indent --mesh " + smallTissue() + " --refine 0 --depth 0.06 --steps 3 --csv " + a)
+          .status,
+      0);
   // The published method as published: each step relaxed from the last equilibrium.
   const CliRun r = cli("indent --mesh " + smallTissue() +
-                    " --depth 0.06 --steps 3 --solver implicit-euler-cg --no-predictor --csv " + b);
+                       " --refine 0 --depth 0.06 --steps 3 --solver implicit-euler-cg "
+                       "--no-predictor --csv " + b);
   ASSERT_EQ(r.status, 0) << r.output;
   const auto ca = tp::readCurveCsv(a), cb = tp::readCurveCsv(b);
   ASSERT_EQ(ca.size(), cb.size());
@@ -107,9 +112,27 @@ TEST(Cli, ReferenceSolverGivesTheSameCurve) {
 }
 
 TEST(Cli, RefinementAtTheSite) {
-  const CliRun r = cli("indent --mesh " + smallTissue() + " --depth 0.1 --steps 2 --refine 1");
+  // A fixed level: the mesh is refined around the site, the curve's end value carries an error
+  // estimated against the next level, and the CSV says so in comment lines above the header.
+  const std::string csv = tmp("refined.csv");
+  const CliRun r = cli("indent --mesh " + smallTissue() +
+                       " --depth 0.1 --steps 2 --refine 2 --csv " + csv);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("refined 1 level(s)"));
+  EXPECT_THAT(r.output, HasSubstr("# mesh level 2 (fixed)"));
+  EXPECT_THAT(r.output, HasSubstr("estimated discretisation error +-"));
+  std::ifstream in(csv);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_THAT(first, HasSubstr("# mesh level 2"));
+  const auto curve = tp::readCurveCsv(csv);  // comments skipped
+  EXPECT_EQ(curve.size(), 3u);
+  // Level 0 is the tissue as given.
+  const CliRun raw = cli("indent --mesh " + smallTissue() + " --depth 0.1 --steps 2 --refine 0");
+  EXPECT_EQ(raw.status, 0) << raw.output;
+  EXPECT_THAT(raw.output, HasSubstr("# mesh level 0 (fixed)"));
+  const CliRun bad = cli("indent --mesh " + smallTissue() + " --refine fine");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.output, HasSubstr("--refine: expected auto or a level"));
 }
 
 TEST(Cli, BadInputIsNamed) {
