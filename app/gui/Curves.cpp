@@ -32,8 +32,31 @@ std::string curveName(int siteNumber, const Eigen::Vector3d& site, const Simulat
   return std::string(where) + " · " + describe(p) + (live ? " · drag" : "");
 }
 
+std::string meshErrorText(const NamedCurve& c) {
+  if (c.meshError < 0) return "error not estimated";
+  char b[64];
+  std::snprintf(b, sizeof b, "±%.*f %%", c.meshError < 0.001 ? 2 : 1, 100 * c.meshError);
+  return b;
+}
+
 std::string curvesCsv(const std::vector<NamedCurve>& curves) {
-  std::string out = std::string("curve,") + kPointColumns + "\n";
+  std::string out;
+  for (const NamedCurve& c : curves) {
+    std::string line = "# " + quoted(c.name) + ": ";
+    line += c.meshLevel >= 0 ? "mesh level " + std::to_string(c.meshLevel) : "mesh level unknown";
+    if (c.meshError >= 0) {
+      char at[64];
+      std::snprintf(at, sizeof at, " at %g %s", c.meshErrorAt, c.meshErrorForce ? "uN" : "um");
+      line += ", estimated discretisation error " + meshErrorText(c) + " of the " +
+              (c.meshErrorForce ? "depth" : "force") + at + " (" + c.meshErrorMethod + ")";
+    } else {
+      line += ", discretisation error not estimated";
+    }
+    for (char& ch : line)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    out += line + "\n";
+  }
+  out += std::string("curve,") + kPointColumns + "\n";
   for (const NamedCurve& c : curves) {
     // tp::curveCsv writes the five point columns exactly; add the name and `unloading`.
     const std::string body = curveCsv(c.points);
@@ -65,11 +88,11 @@ std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
     pos = end + 1;
     ++line;
     if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
-    if (row.empty()) continue;
+    if (row.empty() || row.front() == '#') continue;
     if (header) {
       if (row != std::string("curve,") + kPointColumns)
-        throw std::runtime_error(nameForErrors + ": line 1: expected the header 'curve," +
-                                 kPointColumns + "'");
+        throw std::runtime_error(nameForErrors + ": line " + std::to_string(line) +
+                                 ": expected the header 'curve," + kPointColumns + "'");
       header = false;
       continue;
     }

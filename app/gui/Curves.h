@@ -20,7 +20,17 @@ struct NamedCurve {
   SimulationParams params;
   std::vector<CurvePoint> points;
   bool live = false;  // grown by dragging the probe (not a scheduled run)
+  // The mesh it was computed on and the estimated discretisation error of its deepest point.
+  int meshLevel = -1;       // -1: not known
+  double meshError = -1;    // relative; < 0: not estimated (yet)
+  double meshErrorAt = 0;   // µm (or µN when meshErrorForce)
+  bool meshErrorForce = false;
+  std::string meshErrorMethod;
+  int preparation = -1;     // the worker's preparation it belongs to (not saved)
 };
+
+/// "±1.2 %" (or "error not estimated"), for legends and lists.
+std::string meshErrorText(const NamedCurve& c);
 
 /// The name of a curve: "site 2 (0.0, 0.0, 45.8) µm · E 100 MPa, p 0.8 MPa, r 1 µm".
 std::string curveName(int siteNumber, const Eigen::Vector3d& site, const SimulationParams& p,
@@ -28,6 +38,7 @@ std::string curveName(int siteNumber, const Eigen::Vector3d& site, const Simulat
 
 /// Long-format CSV, one row per point of every curve:
 ///   curve,depth_um,force_uN,iterations,residual,converged,unloading
+/// after one `#` comment line per curve naming its mesh and estimated discretisation error.
 /// The curve name is quoted ("" for a quote inside); numbers as tp::curveCsv writes them.
 std::string curvesCsv(const std::vector<NamedCurve>& curves);
 /// Writes curvesCsv atomically; throws std::runtime_error if writing fails.

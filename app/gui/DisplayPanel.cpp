@@ -61,6 +61,12 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
   form->addRow(tr("Min"), lo_);
   form->addRow(tr("Max"), hi_);
   form->addRow(outlines_);
+  mesh_ = new QCheckBox(tr("Mesh (triangles)"));
+  mesh_->setObjectName("meshCheckBox");
+  mesh_->setToolTip(tr("Draw every triangle's edges: the mesh is refined around the site so "
+                       "that the force does not depend on it (see the mesh level and its "
+                       "estimated error in the status bar)."));
+  form->addRow(mesh_);
   layout->addWidget(colour);
 
   auto* sectionBox = new QGroupBox(tr("Section"));
@@ -100,6 +106,7 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
       if (!auto_->isChecked()) emit rangeChanged(lo_->value(), hi_->value());
     });
   connect(outlines_, &QCheckBox::toggled, this, &DisplayPanel::outlinesChanged);
+  connect(mesh_, &QCheckBox::toggled, this, &DisplayPanel::meshChanged);
   connect(section_, &QCheckBox::toggled, this, &DisplayPanel::emitSection);
   connect(axis_, &QComboBox::currentIndexChanged, this, &DisplayPanel::emitSection);
   connect(position_, &QSlider::valueChanged, this, &DisplayPanel::emitSection);

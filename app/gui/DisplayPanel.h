@@ -36,6 +36,7 @@ class DisplayPanel : public QWidget {
   void autoRangeChanged(bool on);
   void rangeChanged(double lo, double hi);
   void outlinesChanged(bool on);
+  void meshChanged(bool on);
   void sectionChanged(bool enabled, int axis, double fraction, bool flip);
 
  private:
@@ -43,7 +44,7 @@ class DisplayPanel : public QWidget {
   void updateUnits();
 
   QComboBox *field_, *map_, *axis_;
-  QCheckBox *auto_, *outlines_, *section_, *flip_;
+  QCheckBox *auto_, *outlines_, *mesh_, *section_, *flip_;
   QDoubleSpinBox *lo_, *hi_;
   QSlider* position_;
 };

@@ -73,8 +73,8 @@ bool GlRenderer::initialize(QString* error) {
   wallVao_.release();
 
   // Position-only arrays: outlines, clamped vertices, the probe's stem.
-  for (auto [vao, vbo] : {std::pair{&lineVao_, &lineVbo_}, std::pair{&pointVao_, &pointVbo_},
-                          std::pair{&stemVao_, &stemVbo_}}) {
+  for (auto [vao, vbo] : {std::pair{&lineVao_, &lineVbo_}, std::pair{&meshVao_, &meshVbo_},
+                          std::pair{&pointVao_, &pointVbo_}, std::pair{&stemVao_, &stemVbo_}}) {
     vao->create();
     vao->bind();
     vbo->create();
@@ -104,11 +104,14 @@ bool GlRenderer::initialize(QString* error) {
 
 void GlRenderer::release() {
   if (!initialized_) return;
-  for (auto* b : {&wallVbo_, &lineVbo_, &pointVbo_, &sphereVbo_, &stemVbo_}) b->destroy();
-  for (auto* v : {&wallVao_, &lineVao_, &pointVao_, &sphereVao_, &stemVao_}) v->destroy();
+  for (auto* b : {&wallVbo_, &lineVbo_, &meshVbo_, &pointVbo_, &sphereVbo_, &stemVbo_})
+    b->destroy();
+  for (auto* v : {&wallVao_, &lineVao_, &meshVao_, &pointVao_, &sphereVao_, &stemVao_})
+    v->destroy();
   walls_.reset();
   lines_.reset();
-  wallVertices_ = lineVertices_ = pointVertices_ = outerWallVertices_ = outerLineVertices_ = 0;
+  wallVertices_ = lineVertices_ = meshVertices_ = pointVertices_ = outerWallVertices_ =
+      outerLineVertices_ = outerMeshVertices_ = 0;
   initialized_ = false;
 }
 
@@ -121,6 +124,9 @@ void GlRenderer::upload(const SnapshotBuffers& b) {
   };
   put(wallVbo_, b.triangleVertices());
   put(lineVbo_, b.lineVertices());
+  put(meshVbo_, b.meshVertices());
+  meshVertices_ = b.meshVertexCount();
+  outerMeshVertices_ = b.outerMeshVertexCount();
   put(pointVbo_, b.clampedPoints());
   wallVertices_ = b.triangleVertexCount();
   lineVertices_ = b.lineVertexCount();
@@ -171,6 +177,12 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
   lines_->setUniformValue("viewProjection", vp);
   lines_->setUniformValue("clipEnabled", f.clip.has_value());
   lines_->setUniformValue("clipPlane", clip);
+  if (f.mesh && meshVertices_ > 0) {
+    lines_->setUniformValue("color", QVector4D(0.35f, 0.37f, 0.42f, 1.0f));
+    meshVao_.bind();
+    glDrawArrays(GL_LINES, 0, f.clip ? meshVertices_ : outerMeshVertices_);
+    meshVao_.release();
+  }
   if (f.outlines && lineVertices_ > 0) {
     lines_->setUniformValue("color", QVector4D(0.08f, 0.08f, 0.1f, 1.0f));
     lineVao_.bind();

@@ -27,6 +27,7 @@ class GlRenderer : protected QOpenGLExtraFunctions {
     std::optional<ClipPlane> clip;
     int highlightCell = -1;
     bool outlines = true;
+    bool mesh = false;  // every triangle edge: where the mesh is refined
     bool clampedPoints = true;
     bool probe = false;
     Eigen::Vector3f probeCenter = Eigen::Vector3f::Zero();  // µm
@@ -53,10 +54,12 @@ class GlRenderer : protected QOpenGLExtraFunctions {
  private:
   bool initialized_ = false;
   std::unique_ptr<QOpenGLShaderProgram> walls_, lines_;
-  QOpenGLVertexArrayObject wallVao_, lineVao_, pointVao_, sphereVao_, stemVao_;
-  QOpenGLBuffer wallVbo_, lineVbo_, pointVbo_, sphereVbo_, stemVbo_;
-  int wallVertices_ = 0, lineVertices_ = 0, pointVertices_ = 0, sphereVertices_ = 0;
-  int outerWallVertices_ = 0, outerLineVertices_ = 0;  // the leading part seen without a cut
+  QOpenGLVertexArrayObject wallVao_, lineVao_, meshVao_, pointVao_, sphereVao_, stemVao_;
+  QOpenGLBuffer wallVbo_, lineVbo_, meshVbo_, pointVbo_, sphereVbo_, stemVbo_;
+  int wallVertices_ = 0, lineVertices_ = 0, meshVertices_ = 0, pointVertices_ = 0,
+      sphereVertices_ = 0;
+  // The leading parts seen without a cut.
+  int outerWallVertices_ = 0, outerLineVertices_ = 0, outerMeshVertices_ = 0;
 };
 
 }  // namespace tp::gui

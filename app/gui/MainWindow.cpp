@@ -178,7 +178,12 @@ void MainWindow::createStatusBar() {
   hoverLabel_ = new QLabel;
   probeLabel_ = new QLabel;
   probeLabel_->setObjectName("probeLabel");
+  meshLabel_ = new QLabel;
+  meshLabel_->setObjectName("meshLabel");
+  meshLabel_->setToolTip(tr("The mesh around the site and the estimated discretisation error of "
+                            "the last curve's deepest point"));
   statusBar()->addWidget(busy_);
+  statusBar()->addPermanentWidget(meshLabel_);
   statusBar()->addPermanentWidget(hoverLabel_);
   statusBar()->addPermanentWidget(probeLabel_);
 }
@@ -196,6 +201,10 @@ void MainWindow::wire() {
             : QString::fromStdString(s.status));
   }, this);
   connect(c, &SimulationController::snapshotReady, probeText, &Throttle::request);
+  connect(c, &SimulationController::snapshotReady, this, [this](const Snapshot& s) {
+    if (s.phase == Snapshot::Phase::Prepared) meshLabel_->setText(QString::fromStdString(s.meshStatus));
+  });
+  connect(c, &SimulationController::meshErrorChanged, meshLabel_, &QLabel::setText);
   auto* plotUpdate = new Throttle(200, [this] {
     plot_->setCurves(controller_->curves(), controller_->meanCellSize());
   }, this);
@@ -263,6 +272,7 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::autoRangeChanged, view_, &TissueView::setAutoRange);
   connect(display_, &DisplayPanel::rangeChanged, view_, &TissueView::setRange);
   connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
+  connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
   // The plot and the files.

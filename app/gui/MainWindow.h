@@ -54,7 +54,7 @@ class MainWindow : public QMainWindow {
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;
   BusyIndicator* busy_;
-  QLabel *hoverLabel_, *probeLabel_;
+  QLabel *hoverLabel_, *probeLabel_, *meshLabel_;
 };
 
 }  // namespace tp::gui

@@ -71,25 +71,28 @@ QWidget* ParameterPanel::buildMaterialGroup() {
          "(about 3× too soft); or no bending."));
   radius_ = spin(0.05, 20, 2, 0.1, tr(" µm"),
                  tr("Radius of the spherical probe (µm): from 1/15 of a cell to half a cell."));
-  refine_ = new QSpinBox;
-  refine_->setRange(0, 4);
-  refine_->setKeyboardTracking(false);
-  refine_->setToolTip(
-      tr("Subdivide the walls near the site this many times (each triangle into "
-         "four, conforming). Each level costs a second solve of the turgid "
-         "state and more unknowns."));
-  refineRadius_ = spin(0, 50, 1, 1, tr(" µm"),
-                       tr("Radius of the refined region around the site (µm); 0 = automatic "
-                          "(the larger of 3 probe radii and one cell)."));
-  refineRadius_->setSpecialValueText(tr("auto"));
+  mesh_ = new QComboBox;
+  mesh_->setObjectName("meshCombo");
+  mesh_->addItem(tr("automatic"), -1);
+  mesh_->addItem(tr("level 0 (as loaded)"), 0);
+  for (int level = 1; level <= MeshSettings{}.maxLevel; ++level)
+    mesh_->addItem(tr("level %1 (triangles of r/%2)").arg(level).arg(1 << (level - 1)), level);
+  mesh_->setToolTip(
+      tr("The mesh around the site. Automatic: refined level by level until the estimated "
+         "discretisation error of the force is within the tolerance (each curve shows its "
+         "error). A fixed level L has triangles of probe radius / 2^(L−1) under the probe, "
+         "graded out to the tissue's own; level 0 is the tissue as loaded."));
+  tolerance_ = spin(0.5, 50, 1, 0.5, tr(" %"),
+                    tr("Relative discretisation error asked of the automatic mesh (of the force "
+                       "at the deepest point of a curve)."));
   form->addRow(tr("E"), E_);
   form->addRow(tr("ν"), nu_);
   form->addRow(tr("Wall thickness h"), h_);
   form->addRow(tr("Turgor p"), p_);
   form->addRow(tr("Bending"), bending_);
   form->addRow(tr("Probe radius"), radius_);
-  form->addRow(tr("Refinement"), refine_);
-  form->addRow(tr("Refined radius"), refineRadius_);
+  form->addRow(tr("Mesh"), mesh_);
+  form->addRow(tr("Mesh tolerance"), tolerance_);
 
   auto* presets = new QHBoxLayout;
   auto* turgid = new QPushButton(tr("Turgid"));
@@ -102,9 +105,9 @@ QWidget* ParameterPanel::buildMaterialGroup() {
   connect(turgid, &QPushButton::clicked, this, &ParameterPanel::applyTurgidPreset);
   connect(plasmolysed, &QPushButton::clicked, this, &ParameterPanel::applyPlasmolysedPreset);
 
-  for (auto* s : {E_, nu_, h_, p_, radius_, refineRadius_})
+  for (auto* s : {E_, nu_, h_, p_, radius_, tolerance_})
     connect(s, &QDoubleSpinBox::valueChanged, this, &ParameterPanel::emitParams);
-  connect(refine_, &QSpinBox::valueChanged, this, &ParameterPanel::emitParams);
+  connect(mesh_, &QComboBox::currentIndexChanged, this, &ParameterPanel::emitParams);
   connect(bending_, &QComboBox::currentIndexChanged, this, &ParameterPanel::emitParams);
   return box;
 }
@@ -185,8 +188,10 @@ SimulationParams ParameterPanel::params() const {
   p.pressure = p_->value();
   p.bending = static_cast<BendingModel>(bending_->currentData().toInt());
   p.probeRadius = radius_->value();
-  p.refineLevel = refine_->value();
-  p.refineRadius = refineRadius_->value();
+  const int level = mesh_->currentData().toInt();
+  p.autoMesh = level < 0;
+  p.meshLevel = level < 0 ? lastParams_.meshLevel : level;
+  p.meshTolerance = tolerance_->value() / 100.0;
   return p;
 }
 
@@ -212,8 +217,9 @@ void ParameterPanel::setParams(const SimulationParams& p) {
   p_->setValue(p.pressure);
   bending_->setCurrentIndex(bending_->findData(int(p.bending)));
   radius_->setValue(p.probeRadius);
-  refine_->setValue(p.refineLevel);
-  refineRadius_->setValue(p.refineRadius);
+  mesh_->setCurrentIndex(std::max(0, mesh_->findData(p.autoMesh ? -1 : p.meshLevel)));
+  tolerance_->setValue(100.0 * p.meshTolerance);
+  tolerance_->setEnabled(p.autoMesh);
   silent_ = false;
   lastParams_ = params();
 }
@@ -233,6 +239,7 @@ void ParameterPanel::setSchedule(const Schedule& s) {
 void ParameterPanel::emitParams() {
   if (silent_) return;
   const SimulationParams p = params();
+  tolerance_->setEnabled(p.autoMesh);
   if (p == lastParams_) return;
   lastParams_ = p;
   emit paramsChanged(p);

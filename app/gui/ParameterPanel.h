@@ -1,5 +1,5 @@
 #pragma once
-// The parameter dock: material, turgor, probe and refinement (with units and tooltips), the
+// The parameter dock: material, turgor, probe and mesh (with units and tooltips), the
 // Turgid/Plasmolysed presets, the probe depth (spin box + slider) and the loading schedule with
 // Run/Cancel and a progress bar. Setters are silent; user edits emit signals.
 
@@ -55,9 +55,9 @@ class ParameterPanel : public QWidget {
   void emitSchedule();
   void updateScheduleControls();
 
-  QDoubleSpinBox *E_, *nu_, *h_, *p_, *radius_, *refineRadius_;
+  QDoubleSpinBox *E_, *nu_, *h_, *p_, *radius_, *tolerance_;
   QComboBox* bending_;
-  QSpinBox* refine_;
+  QComboBox* mesh_;
   QDoubleSpinBox* depth_;
   QSlider* depthSlider_;
   QComboBox* control_;

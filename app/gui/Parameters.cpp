@@ -43,6 +43,17 @@ Material SimulationParams::material() const {
   return m;
 }
 
+ExperimentSettings SimulationParams::experimentSettings() const {
+  ExperimentSettings s;
+  s.material = material();
+  s.pressure = pressure;
+  s.indentation.probeRadius = probeRadius;
+  s.mesh.automatic = autoMesh;
+  if (!autoMesh) s.mesh.level = meshLevel;
+  s.mesh.tolerance = meshTolerance;
+  return s;
+}
+
 SimulationParams turgidPreset(SimulationParams p) {
   p.pressure = 0.8;
   return p;
@@ -59,7 +70,7 @@ std::string describe(const SimulationParams& p) {
   if (p.thickness != 0.2) s << ", h " << p.thickness << " µm";
   if (p.poissonRatio != 0.49) s << ", ν " << p.poissonRatio;
   if (p.bending != BendingModel::Hinge) s << ", " << toString(p.bending);
-  if (p.refineLevel > 0) s << ", refined ×" << p.refineLevel;
+  if (!p.autoMesh) s << ", mesh level " << p.meshLevel;
   return s.str();
 }
 
@@ -67,7 +78,8 @@ nlohmann::json toJson(const SimulationParams& p) {
   return {{"E_MPa", p.youngModulus},        {"nu", p.poissonRatio},
           {"thickness_um", p.thickness},    {"pressure_MPa", p.pressure},
           {"bending", toString(p.bending)}, {"probe_radius_um", p.probeRadius},
-          {"refine_level", p.refineLevel},  {"refine_radius_um", p.refineRadius}};
+          {"mesh", p.autoMesh ? nlohmann::json("auto") : nlohmann::json(p.meshLevel)},
+          {"mesh_tolerance", p.meshTolerance}};
 }
 
 nlohmann::json toJson(const Schedule& s) {
@@ -94,13 +106,23 @@ SimulationParams paramsFromJson(const nlohmann::json& j) {
     }
   }
   p.probeRadius = number(j, "probe_radius_um", p.probeRadius);
-  p.refineLevel = integer(j, "refine_level", p.refineLevel);
-  p.refineRadius = number(j, "refine_radius_um", p.refineRadius);
-  if (!(p.probeRadius > 0)) throw std::runtime_error("'probe_radius_um' must be positive");
-  if (p.refineLevel < 0 || p.refineLevel > 4)
-    throw std::runtime_error("'refine_level' must be between 0 and 4");
+  if (j.contains("mesh")) {
+    const auto& m = j.at("mesh");
+    if (m.is_string() && m == "auto") {
+      p.autoMesh = true;
+    } else if (m.is_number_integer()) {
+      p.autoMesh = false;
+      p.meshLevel = m.get<int>();
+    } else {
+      throw std::runtime_error("'mesh' must be \"auto\" or a level (an integer)");
+    }
+  } else if (j.contains("refine_level")) {  // sessions of version 1: a fixed level
+    p.autoMesh = false;
+    p.meshLevel = integer(j, "refine_level", 0);
+  }
+  p.meshTolerance = number(j, "mesh_tolerance", p.meshTolerance);
   try {
-    p.material().validate();
+    p.experimentSettings().validate();  // the same ranges as the command line
   } catch (const std::exception& e) {
     throw std::runtime_error(e.what());
   }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "experiment/Experiment.h"
 #include "experiment/Indentation.h"
 #include "mechanics/Material.h"
 
@@ -17,10 +18,15 @@ struct SimulationParams {
   double pressure = 0.8;        // turgor p of every cell, MPa
   BendingModel bending = BendingModel::Hinge;
   double probeRadius = 1.0;  // µm
-  int refineLevel = 0;       // subdivisions of the walls near the site (0–4)
-  double refineRadius = 0;   // µm; 0 = the larger of 3 probe radii and one cell
+  // The mesh at the site (core/experiment/Experiment.h): automatic (refined level by level
+  // until the estimated discretisation error is within meshTolerance) or a fixed level.
+  bool autoMesh = true;
+  int meshLevel = 3;            // the fixed level (0 = the tissue as loaded)
+  double meshTolerance = 0.03;  // relative
 
   Material material() const;
+  /// The core's settings for these parameters (probe, material, turgor, mesh).
+  ExperimentSettings experimentSettings() const;
   bool operator==(const SimulationParams&) const = default;
 };
 

@@ -83,19 +83,42 @@ int PlotPanel::selectedCurve() const {
   return list_->currentRow();
 }
 
+namespace {
+
+// The curve's name with its mesh and estimated discretisation error.
+QString label(const NamedCurve& c) {
+  QString text = QString::fromStdString(c.name) + " · " + QString::fromStdString(meshErrorText(c));
+  if (c.meshLevel >= 0) text += QObject::tr(" (mesh level %1)").arg(c.meshLevel);
+  return text;
+}
+
+QString tooltip(const NamedCurve& c) {
+  QString tip = label(c);
+  if (c.meshError >= 0)
+    tip += QObject::tr("\nEstimated at %1 %2: %3")
+               .arg(c.meshErrorAt)
+               .arg(c.meshErrorForce ? QObject::tr("µN") : QObject::tr("µm"))
+               .arg(QString::fromStdString(c.meshErrorMethod));
+  return tip;
+}
+
+}  // namespace
+
 void PlotPanel::setCurves(const std::vector<NamedCurve>& curves, double meanCellSize) {
   curves_ = curves;
   cellSize_ = meanCellSize;
   // Keep the list (and its selection) when only points were added.
   bool sameNames = list_->count() == static_cast<int>(curves_.size());
   for (int i = 0; sameNames && i < list_->count(); ++i)
-    sameNames = list_->item(i)->text() == QString::fromStdString(curves_[i].name);
+    sameNames = list_->item(i)->text() == label(curves_[i]);
   if (!sameNames) {
+    const int row = list_->currentRow();
     list_->clear();
     for (const auto& c : curves_) {
-      list_->addItem(QString::fromStdString(c.name));
-      list_->item(list_->count() - 1)->setToolTip(QString::fromStdString(c.name));
+      list_->addItem(label(c));
+      list_->item(list_->count() - 1)->setToolTip(tooltip(c));
     }
+    if (row < list_->count()) list_->setCurrentRow(row);
   }
   redraw();
 }
@@ -107,7 +130,7 @@ void PlotPanel::redraw() {
     const NamedCurve& c = curves_[i];
     const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
     QCPGraph* g = plot_->addGraph();
-    g->setName(QString::fromStdString(c.name));
+    g->setName(label(c));
     const QColor colour = kPalette[i % std::size(kPalette)];
     g->setPen(QPen(colour, 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
     g->setScatterStyle(

@@ -82,12 +82,19 @@ json sessionToJson(const SessionState& s) {
   for (const auto& site : s.sites) j["sites"].push_back(vec(site));
   j["current_site"] = s.currentSite;
   j["curves"] = json::array();
-  for (const NamedCurve& c : s.curves)
-    j["curves"].push_back({{"name", c.name},
-                           {"site", vec(c.site)},
-                           {"parameters", toJson(c.params)},
-                           {"live", c.live},
-                           {"points", pointsToJson(c.points)}});
+  for (const NamedCurve& c : s.curves) {
+    json curve = {{"name", c.name},
+                  {"site", vec(c.site)},
+                  {"parameters", toJson(c.params)},
+                  {"live", c.live},
+                  {"points", pointsToJson(c.points)}};
+    if (c.meshLevel >= 0) curve["mesh_level"] = c.meshLevel;
+    if (c.meshError >= 0)
+      curve["mesh_error"] = {{"relative", c.meshError},
+                             {c.meshErrorForce ? "at_force_uN" : "at_depth_um", c.meshErrorAt},
+                             {"method", c.meshErrorMethod}};
+    j["curves"].push_back(std::move(curve));
+  }
   return j;
 }
 
@@ -125,6 +132,16 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
         if (c.contains("parameters")) nc.params = paramsFromJson(c.at("parameters"));
         nc.live = c.value("live", false);
         nc.points = pointsFromJson(c.value("points", json::array()), w + ".points");
+        nc.meshLevel = c.value("mesh_level", -1);
+        if (c.contains("mesh_error")) {
+          const json& e = c.at("mesh_error");
+          if (!e.is_object() || !e.value("relative", json()).is_number())
+            throw std::runtime_error(w + ".mesh_error must hold a number 'relative'");
+          nc.meshError = e.at("relative").get<double>();
+          nc.meshErrorForce = e.contains("at_force_uN");
+          nc.meshErrorAt = e.value(nc.meshErrorForce ? "at_force_uN" : "at_depth_um", 0.0);
+          nc.meshErrorMethod = e.value("method", "");
+        }
         s.curves.push_back(std::move(nc));
       }
     }

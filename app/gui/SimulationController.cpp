@@ -34,6 +34,8 @@ SimulationController::SimulationController(QObject* parent) : QObject(parent) {
           [this](const QString&, const QString& message) { emit loadFailed(message); });
   connect(worker_, &SimulationWorker::failed, this, &SimulationController::solveFailed);
   connect(worker_, &SimulationWorker::runStarted, this, &SimulationController::onRunStarted);
+  connect(worker_, &SimulationWorker::meshErrorEstimated, this,
+          &SimulationController::onMeshError);
   connect(worker_, &SimulationWorker::runProgress, this, &SimulationController::runProgress);
   connect(worker_, &SimulationWorker::runFinished, this, &SimulationController::onRunFinished);
   connect(worker_, &SimulationWorker::exported, this,
@@ -78,12 +80,17 @@ void SimulationController::setSchedule(const Schedule& schedule) {
 
 void SimulationController::pickSite(int generation, int triangle,
                                     const Eigen::Vector3d& barycentric) {
-  if (running_) return;
+  if (running_ || latest_.empty()) return;
+  // The material point under the click, by the rest positions of the geometry clicked on; a
+  // click on a geometry replaced since (a slow click while the mesh was refined) is dropped.
+  const TissueGeometry& g = *latest_.geometry;
+  if (generation != g.generation || triangle < 0 || triangle >= g.triangleCount()) return;
   SiteRequest site;
-  site.kind = SiteRequest::Kind::Pick;
-  site.generation = generation;
-  site.triangle = triangle;
-  site.barycentric = barycentric;
+  site.kind = SiteRequest::Kind::Rest;
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t v = g.triangles[3 * triangle + k];
+    site.point += barycentric[k] * Eigen::Vector3d(g.rest[3 * v], g.rest[3 * v + 1], g.rest[3 * v + 2]);
+  }
   worker_->requestPrepare(params_, site);
 }
 
@@ -121,12 +128,13 @@ void SimulationController::removeCurve(int index) {
   auto shift = [index](int& i) { i = i == index ? -1 : i > index ? i - 1 : i; };
   shift(liveCurve_);
   shift(runCurve_);
+  shift(lastRunCurve_);
   emit curvesChanged();
 }
 
 void SimulationController::clearCurves() {
   curves_.clear();
-  liveCurve_ = runCurve_ = -1;
+  liveCurve_ = runCurve_ = lastRunCurve_ = -1;
   emit curvesChanged();
 }
 
@@ -157,6 +165,8 @@ void SimulationController::onSnapshot(const Snapshot& s) {
       c.site = s.site;
       c.params = s.params;
       c.live = true;
+      c.preparation = s.preparation;
+      c.meshLevel = s.geometry ? s.geometry->meshLevel : -1;
       c.name = uniqueName(curveName(currentSite_ + 1, s.site, s.params, true));
       c.points.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
       curves_.push_back(std::move(c));
@@ -180,14 +190,49 @@ std::string SimulationController::uniqueName(const std::string& base) const {
   return name;
 }
 
-void SimulationController::onRunStarted(int) {
+void SimulationController::onRunStarted(int, bool rerun) {
+  // A run again on a finer mesh replaces the one whose error was above the tolerance.
+  if (rerun && lastRunCurve_ >= 0 && lastRunCurve_ < static_cast<int>(curves_.size())) {
+    curves_.erase(curves_.begin() + lastRunCurve_);
+    if (liveCurve_ > lastRunCurve_) --liveCurve_;
+  }
   NamedCurve c;
   c.site = latest_.site;
   c.params = latest_.params;
+  c.preparation = latest_.preparation;
+  c.meshLevel = latest_.geometry ? latest_.geometry->meshLevel : -1;
   c.name = uniqueName(curveName(currentSite_ + 1, latest_.site, latest_.params, false));
   curves_.push_back(std::move(c));
-  runCurve_ = static_cast<int>(curves_.size()) - 1;
+  runCurve_ = lastRunCurve_ = static_cast<int>(curves_.size()) - 1;
   emit curvesChanged();
+}
+
+void SimulationController::onMeshError(const MeshErrorReport& r) {
+  // The curve it belongs to: the last run, or the drag curve, of that preparation.
+  int index = -1;
+  for (int i = static_cast<int>(curves_.size()) - 1; i >= 0 && index < 0; --i)
+    if (curves_[i].preparation == r.preparation && curves_[i].live != r.run) index = i;
+  if (index >= 0) {
+    NamedCurve& c = curves_[index];
+    c.meshLevel = r.level;
+    c.meshError = r.relative;
+    c.meshErrorAt = r.at;
+    c.meshErrorForce = r.force;
+    c.meshErrorMethod = r.method;
+    emit curvesChanged();
+  }
+  QString text = r.relative >= 0
+                     ? tr("Mesh level %1: estimated discretisation error ±%2 % at %3 %4")
+                           .arg(r.level)
+                           .arg(100 * r.relative, 0, 'g', 2)
+                           .arg(r.at)
+                           .arg(r.force ? tr("µN") : tr("µm"))
+                     : tr("Mesh level %1: the discretisation error could not be estimated (%2)")
+                           .arg(r.level)
+                           .arg(QString::fromStdString(r.method));
+  if (r.relative > params_.meshTolerance && params_.autoMesh)
+    text += tr(" — above the %1 % asked").arg(100 * params_.meshTolerance, 0, 'g', 2);
+  emit meshErrorChanged(text);
 }
 
 void SimulationController::onRunFinished(bool completed) {
@@ -216,7 +261,7 @@ void SimulationController::applySession(const SessionState& session) {
   params_ = session.params;
   schedule_ = session.schedule;
   curves_ = session.curves;
-  liveCurve_ = runCurve_ = -1;
+  liveCurve_ = runCurve_ = lastRunCurve_ = -1;
   pendingSites_ = session.sites;
   pendingCurrentSite_ = session.currentSite;
   emit paramsChanged(params_);

@@ -77,10 +77,13 @@ class SimulationController : public QObject {
   void runningChanged(bool running);
   void runProgress(int done, int total);
   void exportFinished(const QString& path, bool ok, const QString& message);
+  /// The mesh and its estimated discretisation error, for the status bar.
+  void meshErrorChanged(const QString& text);
 
  private:
   void onSnapshot(const Snapshot& s);
-  void onRunStarted(int total);
+  void onRunStarted(int total, bool rerun);
+  void onMeshError(const MeshErrorReport& report);
   void onRunFinished(bool completed);
   void recordSite(const Eigen::Vector3d& site, bool isNew);
   void setRequestedDepth(double depth);
@@ -95,7 +98,7 @@ class SimulationController : public QObject {
   std::vector<Eigen::Vector3d> sites_, pendingSites_;  // pending: for the tissue being loaded
   int currentSite_ = -1, pendingCurrentSite_ = -1;
   std::vector<NamedCurve> curves_;
-  int liveCurve_ = -1, runCurve_ = -1;
+  int liveCurve_ = -1, runCurve_ = -1, lastRunCurve_ = -1;
   int lastPreparation_ = -1;
   Snapshot latest_;
   bool busy_ = false, running_ = false;

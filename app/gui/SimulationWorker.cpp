@@ -1,36 +1,47 @@
 #include "SimulationWorker.h"
 
 #include <QMetaObject>
+#include <QTimer>
 
 #include <cmath>
 #include <exception>
 #include <sstream>
 
-#include "Preparation.h"
 #include "experiment/Stress.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
 #include "io/Vtu.h"
+#include "mesh/Quality.h"
 
 namespace tp::gui {
 
 struct SimulationWorker::State {
   std::shared_ptr<const CellComplex> base;  // the tissue as loaded (unrefined)
   std::string path;
-  double cellSize = 0;                         // µm, of the loaded tissue
-  std::shared_ptr<const CellComplex> complex;  // what is simulated (base or refined)
+  double cellSize = 0;                      // µm, of the loaded tissue
+  std::unique_ptr<Experiment> experiment;   // its rest state under turgor, the site
+  std::unique_ptr<PreparedSite> site;       // the mesh at the site, its model and indentation
   std::shared_ptr<const TissueGeometry> geometry;
-  // Declared in this order so that the Indentation (which holds a Model&) goes first.
-  std::unique_ptr<Model> model;
-  std::unique_ptr<Indentation> indentation;
   SimulationParams params;
+  Schedule schedule;
+  int autoLevel = MeshSettings{}.level;  // the level the automatic mesh uses now
   int generation = 0;
   int preparation = 0;
+  double liveDepth = 0;    // deepest equilibrium of the current drag (µm)
+  double liveEstimated = -1;  // the depth its error was last estimated at
+  std::string meshStatus;
 
-  bool prepared() const { return indentation && indentation->prepared(); }
+  bool prepared() const { return site && site->indentation && site->indentation->prepared(); }
+  const CellComplex& complex() const { return site ? *site->complex : *base; }
+  int level() const { return params.autoMesh ? autoLevel : params.meshLevel; }
 };
 
 namespace {
+
+// Bits of request kinds (their index in the Request variant) for interruptibleBy_.
+constexpr int kLoadBit = 1 << 0, kPrepareBit = 1 << 1, kDepthBit = 1 << 2, kRunBit = 1 << 3,
+              kExportBit = 1 << 4, kEstimateBit = 1 << 5;
+constexpr int kAnything = kLoadBit | kPrepareBit | kDepthBit | kRunBit | kExportBit | kEstimateBit;
 
 QString q(const std::string& s) {
   return QString::fromStdString(s);
@@ -43,6 +54,7 @@ std::vector<float> toFloats(const Points& x) {
 }
 
 constexpr double kDragTolerance = 1e-7;  // relative residual of equilibria during a drag
+constexpr int kEstimateDelayMs = 800;     // a drag at rest this long gets its error estimated
 
 // Per-triangle fields of a state: stress read-out and displacement from the turgid state.
 void fillFields(const Model* model, const CellComplex& cc, const Points& x, const Points* turgid,
@@ -76,26 +88,18 @@ std::string describePoint(const CurvePoint& p) {
   return st.str();
 }
 
-std::vector<VtuField> vtuTriangleFields(const StressField& st) {
-  VtuField sigma{"cauchy_stress_MPa", 9, {}}, s1{"principal_max_MPa", 1, {}},
-      s2{"principal_min_MPa", 1, {}}, vm{"von_mises_MPa", 1, {}},
-      sed{"strain_energy_density_MPa", 1, {}}, bend{"bending_energy_density_MPa", 1, {}};
-  for (size_t t = 0; t < st.triangles.size(); ++t) {
-    const auto& ts = st.triangles[t];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) sigma.values.push_back(ts.cauchy(i, j));
-    s1.values.push_back(ts.principalMax);
-    s2.values.push_back(ts.principalMin);
-    vm.values.push_back(ts.vonMises);
-    sed.values.push_back(ts.energyDensity);
-    bend.values.push_back(st.bendingEnergyDensity[t]);
-  }
-  return {sigma, s1, s2, vm, sed, bend};
+std::string percent(double relative) {
+  std::ostringstream s;
+  s.precision(relative < 0.1 ? 2 : 3);
+  s << 100 * relative << " %";
+  return s.str();
 }
 
 }  // namespace
 
-SimulationWorker::SimulationWorker() : s_(std::make_unique<State>()) {}
+SimulationWorker::SimulationWorker() : s_(std::make_unique<State>()) {
+  qRegisterMetaType<tp::gui::MeshErrorReport>();
+}
 SimulationWorker::~SimulationWorker() = default;
 
 void SimulationWorker::requestLoad(const QString& path, const SimulationParams& params,
@@ -112,7 +116,7 @@ void SimulationWorker::requestDepth(double depth) {
 }
 
 void SimulationWorker::requestRun(const Schedule& schedule) {
-  cancel_ = false;  // here, not when the run starts: a cancel right after the request counts
+  stop_ = false;  // here, not when the run starts: a Cancel right after the request counts
   enqueue(Run{schedule});
 }
 
@@ -122,7 +126,7 @@ void SimulationWorker::requestExportVtu(const QString& path) {
 
 void SimulationWorker::stop() {
   stopping_ = true;
-  cancel_ = true;
+  stop_ = true;
   std::lock_guard lock(mutex_);
   queue_.clear();
 }
@@ -144,6 +148,8 @@ void SimulationWorker::enqueue(Request r) {
     } else {
       queue_.push_back(std::move(r));
     }
+    // The task in hand gives way if this request may stop it.
+    if (interruptibleBy_ & (1 << queue_.back().index())) stop_ = true;
     post = !scheduled_;
     scheduled_ = true;
   }
@@ -157,11 +163,22 @@ void SimulationWorker::processNext() {
     if (!queue_.empty()) {
       r = std::move(queue_.front());
       queue_.pop_front();
+      // What may stop this task: a curve only by Cancel; a preparation by a newer site or
+      // parameters; an estimate by anything.
+      interruptibleBy_ = std::holds_alternative<Prepare>(*r) || std::holds_alternative<Load>(*r)
+                             ? kLoadBit | kPrepareBit
+                         : std::holds_alternative<EstimateLive>(*r) ? kAnything
+                                                                    : 0;
+      // A Cancel of a run not started yet still counts (requestRun cleared the flag before);
+      // anything else starts afresh.
+      if (!std::holds_alternative<Run>(*r)) stop_ = false;
     }
   }
   if (r && !stopping_) {
     try {
       std::visit([this](const auto& req) { handle(req); }, *r);
+    } catch (const Cancelled&) {
+      // Stopped for a newer request: it follows in the queue.
     } catch (const std::exception& e) {
       emit failed(QString::fromUtf8(e.what()));
     }
@@ -169,6 +186,7 @@ void SimulationWorker::processNext() {
   bool more = false;
   {
     std::lock_guard lock(mutex_);
+    interruptibleBy_ = 0;
     more = !queue_.empty() && !stopping_;
     scheduled_ = more;
   }
@@ -195,25 +213,26 @@ void SimulationWorker::handle(const Load& r) {
     emit loadFailed(q(path), QString::fromUtf8(e.what()));
     return;
   }
+  // The same checks as the command line: a valid complex that can be simulated.
   const ValidityReport report = checkValidity(cc);
   if (!report.ok()) {
     emit loadFailed(q(path), tr("%1: not a valid tissue: %2").arg(q(path), q(report.summary())));
     return;
   }
-  if (cc.triangleCount() == 0) {
-    emit loadFailed(q(path), tr("%1: the file holds no faces").arg(q(path)));
+  if (const std::string problem = simulationProblem(cc); !problem.empty()) {
+    emit loadFailed(q(path), tr("%1: %2").arg(q(path), q(problem)));
     return;
   }
   // The new tissue replaces the old one only now that it is known to be good.
   auto base = std::make_shared<const CellComplex>(std::move(cc));
-  s_->indentation.reset();
-  s_->model.reset();
+  s_->site.reset();
+  s_->experiment.reset();
   s_->base = base;
-  s_->complex = base;
   s_->path = path;
   s_->cellSize = meanCellSize(*base);
   s_->geometry = makeTissueGeometry(*base, ++s_->generation, path, s_->cellSize);
   s_->params = r.params;
+  s_->autoLevel = MeshSettings{}.level;
   emit loaded(q(path), tr("%1 cells, %2 vertices, %3 triangles")
                            .arg(base->cellCount())
                            .arg(base->vertexCount())
@@ -226,61 +245,70 @@ void SimulationWorker::handle(const Load& r) {
 
 void SimulationWorker::handle(const Prepare& r) {
   if (!s_->base) return;
-  SiteRequest site = r.site;
-  const bool newSite = site.kind == SiteRequest::Kind::Pick || site.kind == SiteRequest::Kind::Top;
-  if (site.kind == SiteRequest::Kind::Current) {
-    // The same material point: remember where it is in the rest state, since the new turgid
-    // state (another pressure, modulus, …) moves it.
-    site.kind = s_->prepared() ? SiteRequest::Kind::Point : SiteRequest::Kind::Top;
-    if (s_->prepared()) {
-      const ProbePlacement& pl = s_->indentation->placement();
-      site.point = pl.site;
-      site.restPoint =
-          restPositionOf(*s_->model, s_->indentation->turgidState(), pl.site, pl.triangle);
-    }
-  }
-  if (site.kind == SiteRequest::Kind::Pick) {
-    // A pick on a geometry that has been replaced since is stale: drop it.
-    if (!s_->geometry || site.generation != s_->geometry->generation) return;
-    const Points& x = s_->prepared() ? s_->indentation->turgidState() : s_->complex->rest;
-    const int t = site.triangle;
-    if (t < 0 || t >= s_->complex->triangleCount()) return;
-    const auto& tri = s_->complex->triangles[t];
-    site.point = site.barycentric[0] * x.col(tri[0]) + site.barycentric[1] * x.col(tri[1]) +
-                 site.barycentric[2] * x.col(tri[2]);
-    site.kind = SiteRequest::Kind::Point;
-  }
+  const SiteRequest& site = r.site;
+  const bool newSite = site.kind == SiteRequest::Kind::Rest || site.kind == SiteRequest::Kind::Top;
   prepare(r.params, site, newSite);
 }
 
-bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest& site,
-                               bool newSite) {
+bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest& request,
+                               bool newSite, bool keepLevel) {
   State& s = *s_;
-  PreparationRequest request;
-  request.params = params;
-  if (site.kind == SiteRequest::Kind::Point) request.site = site.point;
-  request.restPoint = site.restPoint;
+  ExperimentSettings settings = params.experimentSettings();
+  switch (request.kind) {
+    case SiteRequest::Kind::Top:
+      break;
+    case SiteRequest::Kind::Point:
+      settings.indentation.site = request.point;
+      break;
+    case SiteRequest::Kind::Current:
+      if (s.experiment && s.experiment->basePrepared())
+        settings.indentation.restSite = s.experiment->restSite();
+      break;
+    case SiteRequest::Kind::Rest:
+      settings.indentation.restSite = request.point;
+      break;
+  }
+  // The automatic mesh starts again from its first level for a new site or new parameters; it
+  // keeps the level it has reached when it refines to run a curve again.
+  if (!keepLevel) s.autoLevel = MeshSettings{}.level;
+  settings.mesh.level = params.autoMesh ? s.autoLevel : params.meshLevel;
+  const int level = settings.mesh.level;
+  Monitor monitor;
+  monitor.cancel = &stop_;
+  monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
+  std::unique_ptr<PreparedSite> site;
   try {
-    PreparedIndentation p = prepareIndentation(
-        s.base, s.cellSize, request, [this](const std::string& what) { emit busy(q(what)); });
-    // Success: the new state replaces the old one (the old indentation goes before its model).
-    s.indentation.reset();
-    s.model = std::move(p.model);
-    s.indentation = std::move(p.indentation);
-    s.params = params;
-    if (p.complex != s.complex) {
-      s.complex = p.complex;
-      s.geometry = makeTissueGeometry(*s.complex, ++s.generation, s.path, s.cellSize);
-    }
-    ++s.preparation;
+    settings.validate();
+    if (!s.experiment)
+      s.experiment = std::make_unique<Experiment>(s.base, settings);
+    else
+      s.experiment->setSettings(settings);
+    site = s.experiment->prepareSite(level, monitor);
+  } catch (const Cancelled&) {
+    throw;
   } catch (const std::exception& e) {
     emit failed(
         tr("Preparation failed, the previous state is kept: %1").arg(QString::fromUtf8(e.what())));
     return false;
   }
+  // Success: the new state replaces the old one.
+  s.site = std::move(site);
+  s.params = params;
+  s.geometry = makeTissueGeometry(*s.site->complex, ++s.generation, s.path, s.cellSize, level);
+  ++s.preparation;
+  s.liveDepth = 0;
+  s.liveEstimated = -1;
+  std::ostringstream mesh;
+  mesh << "mesh level " << level << (params.autoMesh ? " (automatic)" : "") << ": "
+       << s.site->complex->vertexCount() << " vertices; error not yet estimated";
+  s.meshStatus = mesh.str();
   Snapshot snap = snapshot(Snapshot::Phase::Prepared);
   snap.point = CurvePoint{0.0, 0.0, 0, 0.0, true, false};
   snap.newSite = newSite;
+  std::ostringstream st;
+  st.precision(3);
+  st << "turgid, probe touching (ready in " << s.site->seconds << " s)";
+  snap.status = st.str();
   emit snapshotReady(snap);
   return true;
 }
@@ -291,98 +319,188 @@ void SimulationWorker::handle(const Depth& r) {
   // A drag shows equilibria rather than measuring them: a residual of 1e-7 of the load scale
   // (forces good to ~1e-5 µN of tens of µN) lets most drag steps finish in one Newton iteration
   // instead of two. Curve runs keep the solver's own tolerance (1e-8).
-  SolverOptions& options = s_->indentation->solver().options();
+  Indentation& ind = *s_->site->indentation;
+  SolverOptions& options = ind.solver().options();
   const double tolerance = options.tolerance;
   options.tolerance = std::max(tolerance, kDragTolerance);
-  const CurvePoint pt = s_->indentation->goToDepth(r.depth);
+  const CurvePoint pt = ind.goToDepth(r.depth);
   options.tolerance = tolerance;
   if (!pt.converged) {
-    emit failed(q(s_->indentation->lastMessage()));
+    emit failed(q(ind.lastMessage()));
     return;
   }
+  s_->liveDepth = std::max(s_->liveDepth, pt.depth);
   Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
   snap.point = pt;
   snap.force = pt.force;
   snap.status = describePoint(pt);
   emit snapshotReady(snap);
+  // When the drag rests, estimate the error of its deepest point.
+  const int preparation = s_->preparation;
+  QTimer::singleShot(kEstimateDelayMs, this, [this, preparation] {
+    {
+      std::lock_guard lock(mutex_);
+      if (!queue_.empty()) return;  // still dragging: the last depth schedules it again
+    }
+    enqueue(EstimateLive{preparation});
+  });
+}
+
+void SimulationWorker::handle(const EstimateLive& r) {
+  State& s = *s_;
+  if (!s.prepared() || r.preparation != s.preparation || !(s.liveDepth > 0) ||
+      s.liveDepth == s.liveEstimated)
+    return;
+  ExperimentSettings settings = s.experiment->settings();
+  settings.indentation.control = Control::Depth;
+  settings.indentation.maxDepth = s.liveDepth;
+  s.experiment->setSettings(settings);
+  Monitor monitor;
+  monitor.cancel = &stop_;
+  monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
+  // The drag's deepest point at this level: solved again here only if the probe has moved on.
+  Indentation& ind = *s.site->indentation;
+  const double depthNow = ind.depth();
+  ind.solver().setCancelFlag(&stop_);
+  const CurvePoint deepest = ind.goToDepth(s.liveDepth);
+  ind.solver().setCancelFlag(nullptr);
+  if (!deepest.converged) return;
+  const MeshError e = s.experiment->estimateError(s.site->level, deepest.force, monitor);
+  if (depthNow != s.liveDepth) ind.goToDepth(depthNow);
+  s.liveEstimated = s.liveDepth;
+  MeshErrorReport report;
+  report.preparation = s.preparation;
+  report.run = false;
+  report.level = s.site->level;
+  report.at = s.liveDepth;
+  report.relative = e.relative;
+  report.method = e.method;
+  std::ostringstream st;
+  st << "mesh level " << s.site->level << ": error " << (e.estimated() ? "±" + percent(e.relative)
+                                                                        : "not estimated")
+     << " at " << s.liveDepth << " µm";
+  if (e.estimated() && s.params.autoMesh && e.relative > s.params.meshTolerance)
+    st << " (above the " << percent(s.params.meshTolerance)
+       << " asked: run a curve to refine automatically)";
+  s.meshStatus = st.str();
+  emit meshErrorEstimated(report);
 }
 
 void SimulationWorker::handle(const Run& r) {
   // Whatever happens, the controller hears that the run is over (it disables controls meanwhile).
   bool completed = false;
   try {
-    completed = runSchedule(r.schedule);
+    s_->schedule = r.schedule;
+    completed = runSchedule(r.schedule, false);
+  } catch (const Cancelled&) {
   } catch (const std::exception& e) {
     emit failed(QString::fromUtf8(e.what()));
   }
   emit runFinished(completed);
 }
 
-bool SimulationWorker::runSchedule(const Schedule& sc) {
-  if (!s_->prepared()) {
+bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
+  State& s = *s_;
+  if (!s.prepared()) {
     emit failed(tr("Nothing to run: the indentation is not prepared"));
     return false;
   }
-  Indentation& ind = *s_->indentation;
-  // The schedule of Indentation::run, driven here so that every point is shown as it comes and
-  // the schedule can change without preparing again. Depth 0 first (a drag may have left the
-  // probe pressed in).
-  const bool force = sc.control == Control::Force;
-  const double top = force ? sc.maxForce : sc.maxDepth;
-  std::vector<double> targets;
-  for (int k = 1; k <= sc.steps; ++k) targets.push_back(top * k / sc.steps);
-  if (sc.unload)
-    for (int k = sc.steps - 1; k >= 0; --k) targets.push_back(top * k / sc.steps);
-  const int total = static_cast<int>(targets.size());
-  emit runStarted(total);
-  emit busy(tr("Running the curve…"));
-  if (ind.depth() != 0.0 && !ind.goToDepth(0.0).converged) {
+  // The schedule is part of the experiment's settings (the end value the error is judged at).
+  ExperimentSettings settings = s.experiment->settings();
+  IndentationSettings& is = settings.indentation;
+  is.control = sc.control;
+  is.maxDepth = sc.maxDepth;
+  is.maxForce = sc.maxForce;
+  is.steps = sc.steps;
+  is.unload = sc.unload;
+  s.experiment->setSettings(settings);
+  s.site->indentation->setSchedule(is);
+  const int total = static_cast<int>(scheduleTargets(is).size());
+  emit runStarted(total, rerun);
+  emit busy(tr("Running the curve (mesh level %1)…").arg(s.site->level));
+  Indentation& ind = *s.site->indentation;
+  bool first = true;
+  const auto curve = ind.run(
+      [&](const CurvePoint& pt, int done, int all) {
+        if (first) {  // depth 0 (the run starts from first contact)
+          Snapshot start = snapshot(Snapshot::Phase::Equilibrium);
+          start.point = CurvePoint{0.0, 0.0, 0, 0.0, true, false};
+          start.fromRun = true;
+          emit snapshotReady(start);
+          first = false;
+        }
+        Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
+        snap.point = pt;
+        snap.force = pt.force;
+        snap.status = describePoint(pt);
+        snap.fromRun = true;
+        if (pt.converged) emit snapshotReady(snap);
+        emit runProgress(done, all);
+        emit busy(tr("Running the curve (mesh level %1): point %2 of %3…")
+                      .arg(s.site->level)
+                      .arg(done)
+                      .arg(all));
+      },
+      &stop_);
+  if (stop_) return false;
+  if (curve.size() != static_cast<size_t>(total) + 1 || !curve.back().converged) {
     emit failed(q(ind.lastMessage()));
     return false;
   }
-  Snapshot first = snapshot(Snapshot::Phase::Equilibrium);
-  first.point = CurvePoint{0.0, 0.0, 0, 0.0, true, false};
-  first.fromRun = true;
-  emit snapshotReady(first);
-  for (int i = 0; i < total; ++i) {
-    if (cancel_) return false;  // checked between points, as Indentation::run does
-    emit busy(tr("Running the curve: point %1 of %2…").arg(i + 1).arg(total));
-    CurvePoint pt = force ? ind.applyForce(targets[i]) : ind.goToDepth(targets[i]);
-    pt.unloading = sc.unload && i >= sc.steps;
-    if (!pt.converged) {
-      emit failed(q(ind.lastMessage()));
-      return false;
-    }
-    Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
-    snap.point = pt;
-    snap.force = pt.force;
-    snap.status = describePoint(pt);
-    snap.fromRun = true;
-    emit snapshotReady(snap);
-    emit runProgress(i + 1, total);
+  // Its discretisation error, from the next finer level at the deepest point.
+  const bool force = sc.control == Control::Force;
+  const CurvePoint& end = curve[sc.steps];
+  Monitor monitor;
+  monitor.cancel = &stop_;
+  monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
+  const MeshError e = s.experiment->estimateError(s.site->level, force ? end.depth : end.force,
+                                                  monitor);
+  MeshErrorReport report;
+  report.preparation = s.preparation;
+  report.run = true;
+  report.level = s.site->level;
+  report.at = force ? sc.maxForce : sc.maxDepth;
+  report.force = force;
+  report.relative = e.relative;
+  report.method = e.method;
+  emit meshErrorEstimated(report);
+  std::ostringstream st;
+  st << "mesh level " << s.site->level << ": error "
+     << (e.estimated() ? "±" + percent(e.relative) : "not estimated") << " at " << report.at
+     << (force ? " µN" : " µm");
+  s.meshStatus = st.str();
+  const MeshSettings mesh = s.experiment->settings().mesh;
+  if (s.params.autoMesh && e.estimated() && e.relative > s.params.meshTolerance &&
+      s.site->level < mesh.maxLevel) {
+    // Not converged to the tolerance: one level finer, same site, and the curve again.
+    s.autoLevel = s.site->level + 1;
+    emit busy(tr("Estimated error %1 is above the %2 asked: refining to level %3…")
+                  .arg(q(percent(e.relative)), q(percent(s.params.meshTolerance)))
+                  .arg(s.autoLevel));
+    SiteRequest here;
+    here.kind = SiteRequest::Kind::Current;
+    if (!prepare(s.params, here, false, true)) return false;
+    return runSchedule(sc, true);
   }
   return true;
 }
 
 void SimulationWorker::handle(const ExportVtu& r) {
-  if (!s_->complex) {
+  if (!s_->base) {
     emit exportFailed(r.path, tr("no tissue is loaded"));
     return;
   }
   emit busy(tr("Writing %1…").arg(r.path));
   try {
-    const CellComplex& cc = *s_->complex;
-    const Points& x = s_->prepared() ? s_->indentation->state() : cc.rest;
-    std::vector<VtuField> triangleFields;
-    if (s_->model) triangleFields = vtuTriangleFields(computeStress(*s_->model, x));
-    VtuField disp{"displacement_um", 3, {}}, dispRest{"displacement_from_rest_um", 3, {}};
-    const Points& turgid = s_->prepared() ? s_->indentation->turgidState() : cc.rest;
-    for (int v = 0; v < cc.vertexCount(); ++v)
-      for (int k = 0; k < 3; ++k) {
-        disp.values.push_back(x(k, v) - turgid(k, v));
-        dispRest.values.push_back(x(k, v) - cc.rest(k, v));
-      }
-    writeVtu(r.path.toStdString(), cc, x, {disp, dispRest}, triangleFields);
+    const State& s = *s_;
+    const CellComplex& cc = s.complex();
+    if (s.prepared()) {
+      const Indentation& ind = *s.site->indentation;
+      const StateFields f = stateFields(*s.site->model, ind.state(), ind.turgidState());
+      writeVtu(r.path.toStdString(), cc, ind.state(), f.points, f.triangles);
+    } else {
+      writeVtu(r.path.toStdString(), cc, cc.rest);
+    }
     emit exported(r.path);
   } catch (const std::exception& e) {
     emit exportFailed(r.path, QString::fromUtf8(e.what()));
@@ -397,13 +515,14 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
   snap.params = s.params;
   snap.preparation = s.preparation;
   const bool prepared = s.prepared();
-  const Points& x = prepared ? s.indentation->state() : s.complex->rest;
+  const CellComplex& cc = s.complex();
+  const Points& x = prepared ? s.site->indentation->state() : cc.rest;
   snap.positions = toFloats(x);
-  fillFields(prepared ? s.model.get() : nullptr, *s.complex, x,
-             prepared ? &s.indentation->turgidState() : nullptr, snap);
-  snap.cellVolumes = cellVolumes(*s.complex, x);
+  fillFields(prepared ? s.site->model.get() : nullptr, cc, x,
+             prepared ? &s.site->indentation->turgidState() : nullptr, snap);
+  snap.cellVolumes = cellVolumes(cc, x);
   if (prepared) {
-    const Indentation& ind = *s.indentation;
+    const Indentation& ind = *s.site->indentation;
     const ProbePlacement& pl = ind.placement();
     snap.probeVisible = true;
     snap.site = pl.site;
@@ -413,6 +532,7 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
     snap.depth = ind.depth();
   }
   snap.status = !prepared ? "at rest (not under pressure)" : "turgid, probe touching";
+  snap.meshStatus = s.meshStatus;
   return snap;
 }
 

@@ -1,12 +1,15 @@
 #pragma once
 // The simulation, off the GUI thread. A SimulationWorker lives in its own QThread and owns the
-// tissue, the Model and the Indentation; nothing else touches them. Requests may be made from any
-// thread: they are queued under a mutex and handled one at a time, in order, by the worker's
-// event loop (Qt's mandelbrot pattern). A request of the same kind as the last one still waiting
-// replaces it, so a probe dragged faster than the solver is only solved at the newest depth.
-// Results leave as immutable Snapshots, by value, through queued signals. A running curve is
-// stopped by an atomic flag checked between points (Avogadro's calcworker pattern).
-// Units: µm, MPa, µN.
+// core's Experiment (the tissue at rest under turgor, the site refined and prepared on it);
+// nothing else touches them. It is a thin adapter: the workflow is core/experiment/Experiment.h,
+// the same the command line runs. Requests may be made from any thread: they are queued under a
+// mutex and handled one at a time, in order, by the worker's event loop (Qt's mandelbrot
+// pattern). A request of the same kind as the last one still waiting replaces it, so a probe
+// dragged faster than the solver is only solved at the newest depth. Results leave as immutable
+// Snapshots, by value, through queued signals. Long work (a preparation, a curve, a mesh-error
+// estimate) is stopped within one Newton iteration by an atomic flag (Avogadro's calcworker
+// pattern): Cancel stops a curve, a newer site or parameters stop a preparation, anything new
+// stops an estimate. Units: µm, MPa, µN.
 
 #include <QObject>
 #include <QString>
@@ -25,17 +28,14 @@
 namespace tp::gui {
 
 /// Where to put the probe when preparing: the default site (the top of the tissue), the site of
-/// the current preparation (new parameters), a point (the nearest outer-surface point is used),
-/// or a pick on the displayed triangles (barycentric weights), mapped to the turgid state by the
-/// worker.
+/// the current preparation (new parameters), a point near the turgid surface (the nearest
+/// outer-surface point is used), or a material point of the surface given by its rest position
+/// (a pick: any refinement keeps the tissue's rest surface, so it names the same point on every
+/// mesh).
 struct SiteRequest {
-  enum class Kind { Top, Current, Point, Pick };
+  enum class Kind { Top, Current, Point, Rest };
   Kind kind = Kind::Top;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // Kind::Point, µm
-  int generation = -1;                              // Kind::Pick: the geometry picked on
-  int triangle = -1;
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
-  std::optional<Eigen::Vector3d> restPoint;  // the material point (rest state, µm) to stay on
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // Kind::Point and Kind::Rest, µm
 };
 
 class SimulationWorker : public QObject {
@@ -48,17 +48,18 @@ class SimulationWorker : public QObject {
   // Thread-safe requests.
   /// Reads and checks a tissue (empty path: the shipped default), then prepares it.
   void requestLoad(const QString& path, const SimulationParams& params, const SiteRequest& site);
-  /// Solves the turgid state and places the probe (refining around the site if asked).
+  /// Refines the mesh around the site, solves its rest state and places the probe.
   void requestPrepare(const SimulationParams& params, const SiteRequest& site);
   /// Moves the probe to a depth (µm) from first contact and solves.
   void requestDepth(double depth);
-  /// Runs a loading (and unloading) schedule from depth 0.
+  /// Runs a loading (and unloading) schedule from depth 0, then estimates its mesh error (and,
+  /// with the automatic mesh, refines and runs again until it is within tolerance).
   void requestRun(const Schedule& schedule);
   /// Writes the current state with its stress fields as VTU.
   void requestExportVtu(const QString& path);
-  /// Stops a running schedule after its current point.
-  void cancel() { cancel_ = true; }
-  /// Drops every waiting request and stops a run; used before the thread quits.
+  /// Stops a running curve (within one Newton iteration).
+  void cancel() { stop_ = true; }
+  /// Drops every waiting request and stops what runs; used before the thread quits.
   void stop();
 
  signals:
@@ -69,9 +70,11 @@ class SimulationWorker : public QObject {
   void loadFailed(const QString& path, const QString& message);
   /// A solve that failed; the last good state is kept.
   void failed(const QString& message);
-  void runStarted(int total);
+  /// A run begins; `rerun` when it replaces the last one on a finer mesh.
+  void runStarted(int total, bool rerun);
   void runProgress(int done, int total);
   void runFinished(bool completed);
+  void meshErrorEstimated(const tp::gui::MeshErrorReport& report);
   void exported(const QString& path);
   void exportFailed(const QString& path, const QString& message);
 
@@ -94,7 +97,10 @@ class SimulationWorker : public QObject {
   struct ExportVtu {
     QString path;
   };
-  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu>;
+  struct EstimateLive {  // the error of the curve grown by dragging, once the drag rests
+    int preparation;
+  };
+  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive>;
 
   void enqueue(Request r);
   void processNext();
@@ -103,14 +109,17 @@ class SimulationWorker : public QObject {
   void handle(const Depth& r);
   void handle(const Run& r);
   void handle(const ExportVtu& r);
-  bool prepare(const SimulationParams& params, const SiteRequest& site, bool newSite);
-  bool runSchedule(const Schedule& schedule);
+  void handle(const EstimateLive& r);
+  bool prepare(const SimulationParams& params, const SiteRequest& site, bool newSite,
+               bool keepLevel = false);
+  bool runSchedule(const Schedule& schedule, bool rerun);
   Snapshot snapshot(Snapshot::Phase phase) const;
 
   std::mutex mutex_;
   std::deque<Request> queue_;
   bool scheduled_ = false;
-  std::atomic<bool> cancel_{false};
+  int interruptibleBy_ = 0;        // what may stop the task in hand (bits of request kinds)
+  std::atomic<bool> stop_{false};  // the task in hand stops at its next Newton iteration
   std::atomic<bool> stopping_{false};
 
   // Owned by the worker's thread only.

@@ -48,15 +48,28 @@ std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc, int* outerEdg
   return out;
 }
 
-double meanCellSize(const CellComplex& cc) {
-  if (cc.cellCount() == 0) return 0;
-  double volume = 0;
-  for (double v : cellVolumes(cc, cc.rest)) volume += v;
-  return volume > 0 ? std::cbrt(volume / cc.cellCount()) : 0.0;
+std::vector<std::uint32_t> triangleEdges(const CellComplex& cc, int* outerEdges) {
+  std::set<std::pair<int, int>> seen;
+  std::vector<std::uint32_t> outer, inner;
+  for (int pass = 0; pass < 2; ++pass)
+    for (int t = 0; t < cc.triangleCount(); ++t) {
+      if (cc.isOuterTriangle(t) != (pass == 0)) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int a = cc.triangles[t][k], b = cc.triangles[t][(k + 1) % 3];
+        if (!seen.insert(std::minmax(a, b)).second) continue;
+        auto& out = pass == 0 ? outer : inner;
+        out.push_back(static_cast<std::uint32_t>(a));
+        out.push_back(static_cast<std::uint32_t>(b));
+      }
+    }
+  if (outerEdges) *outerEdges = static_cast<int>(outer.size() / 2);
+  outer.insert(outer.end(), inner.begin(), inner.end());
+  return outer;
 }
 
 std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, int generation,
-                                                         const std::string& path, double cellSize) {
+                                                         const std::string& path, double cellSize,
+                                                         int meshLevel) {
   auto g = std::make_shared<TissueGeometry>();
   g->generation = generation;
   g->path = path;
@@ -79,6 +92,9 @@ std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, 
   g->outlineEdges = wallOutlineEdges(cc, &g->outerOutlineEdges);
   g->cellLabels = cc.cellLabels;
   g->meanCellSize = cellSize;
+  g->meshEdges = triangleEdges(cc, &g->outerMeshEdges);
+  g->rest.assign(cc.rest.data(), cc.rest.data() + cc.rest.size());
+  g->meshLevel = meshLevel;
   return g;
 }
 

@@ -30,9 +30,14 @@ struct TissueGeometry {
   std::vector<std::uint8_t> outer;            // T, 1 = on the outer surface
   std::vector<std::uint8_t> clampedTriangle;  // T, 1 = its three vertices are clamped
   std::vector<std::uint8_t> clampedVertex;    // V, 1 = clamped
+  std::vector<double> rest;                   // 3V rest positions (µm): picks → material points
   std::vector<std::uint32_t> outlineEdges;    // 2E vertex indices: boundaries of the walls,
                                               // those of outer walls first
   int outerOutlineEdges = 0;                  // how many edges come first
+  std::vector<std::uint32_t> meshEdges;       // 2E vertex indices: every triangle edge once,
+                                              // those of the outer surface first
+  int outerMeshEdges = 0;                     // how many edges come first
+  int meshLevel = 0;                          // refinement level at the site (0: as loaded)
   std::vector<int> cellLabels;                // C, user-facing label of each dense cell
   double meanCellSize = 0;                    // L = cbrt(rest volume / cells), µm (unrefined)
 
@@ -45,9 +50,13 @@ struct TissueGeometry {
 /// even where several walls meet: the cell outlines to draw. 2E vertex indices.
 std::vector<std::uint32_t> wallOutlineEdges(const CellComplex& cc, int* outerEdges = nullptr);
 /// L = cbrt(total rest volume / cell count) (µm), 0 without cells.
-double meanCellSize(const CellComplex& cc);
+
+/// Every edge of the triangles once, those of outer-surface triangles first. 2E vertex indices.
+std::vector<std::uint32_t> triangleEdges(const CellComplex& cc, int* outerEdges = nullptr);
+
 std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, int generation,
-                                                         const std::string& path, double cellSize);
+                                                         const std::string& path, double cellSize,
+                                                         int meshLevel = 0);
 
 /// Per-triangle quantities a user can colour the walls by.
 enum class Field { VonMises, PrincipalMax, EnergyDensity, BendingEnergyDensity, Displacement };
@@ -83,6 +92,7 @@ struct Snapshot {
   std::optional<CurvePoint> point;  // the equilibrium this snapshot shows, if it is one
   bool fromRun = false;             // the point belongs to a scheduled run (not a drag)
   std::string status;               // one line for the status bar
+  std::string meshStatus;           // the mesh and its estimated error, for the status bar
 
   bool empty() const { return !geometry; }
   Eigen::Vector3d probeCenter() const { return contactCenter + depth * axis; }
@@ -90,4 +100,20 @@ struct Snapshot {
 
 }  // namespace tp::gui
 
+namespace tp::gui {
+
+/// The estimated discretisation error of a curve's deepest point, once it is known.
+struct MeshErrorReport {
+  int preparation = 0;  // the preparation (site and parameters) the curve belongs to
+  bool run = false;     // of the last scheduled run (else of the curve grown by dragging)
+  int level = 0;        // the mesh level of the curve
+  double at = 0;        // the depth (µm) or force (µN) it is estimated at
+  bool force = false;   // `at` is a force
+  double relative = -1; // estimated |error| / |value|; < 0 when it could not be estimated
+  std::string method;   // how, for tooltips and exports
+};
+
+}  // namespace tp::gui
+
 Q_DECLARE_METATYPE(tp::gui::Snapshot)
+Q_DECLARE_METATYPE(tp::gui::MeshErrorReport)

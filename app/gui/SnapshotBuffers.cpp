@@ -10,7 +10,8 @@ namespace tp::gui {
 void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map) {
   triangles_.clear();
   lines_.clear();
-  outerTriangleVertices_ = outerLineVertices_ = 0;
+  mesh_.clear();
+  outerTriangleVertices_ = outerLineVertices_ = outerMeshVertices_ = 0;
   points_.clear();
   bounds_.setEmpty();
   if (s.empty()) return;
@@ -57,6 +58,12 @@ void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map)
   for (std::uint32_t v : g.outlineEdges) {
     const Eigen::Vector3f p = vertex(v);
     lines_.insert(lines_.end(), {p.x(), p.y(), p.z()});
+  }
+  mesh_.reserve(g.meshEdges.size() * 3);
+  outerMeshVertices_ = 2 * g.outerMeshEdges;
+  for (std::uint32_t v : g.meshEdges) {
+    const Eigen::Vector3f p = vertex(v);
+    mesh_.insert(mesh_.end(), {p.x(), p.y(), p.z()});
   }
   for (int v = 0; v < g.vertexCount(); ++v)
     if (g.clampedVertex[v]) {

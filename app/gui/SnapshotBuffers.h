@@ -1,7 +1,7 @@
 #pragma once
 // Turns a Snapshot into the interleaved vertex arrays the GPU draws: one flat-shaded vertex
 // triple per triangle (its colour from the chosen field through the colour map), the wall
-// outlines as line segments and the clamped vertices as points. Plain arrays of floats, no GL
+// outlines and the mesh's edges as line segments and the clamped vertices as points. Plain arrays of floats, no GL
 // context needed (GlRenderer uploads them), so the conversion is unit-tested. Units: µm.
 
 #include <Eigen/Geometry>
@@ -34,14 +34,18 @@ class SnapshotBuffers {
   int triangleVertexCount() const { return static_cast<int>(triangles_.size()) / kTriangleStride; }
   const std::vector<float>& lineVertices() const { return lines_; }
   int lineVertexCount() const { return static_cast<int>(lines_.size()) / kLineStride; }
+  /// Every triangle edge (the mesh), outer-surface edges first.
+  const std::vector<float>& meshVertices() const { return mesh_; }
+  int meshVertexCount() const { return static_cast<int>(mesh_.size()) / kLineStride; }
+  int outerMeshVertexCount() const { return outerMeshVertices_; }
   const std::vector<float>& clampedPoints() const { return points_; }
   int clampedPointCount() const { return static_cast<int>(points_.size()) / kLineStride; }
   /// Bounding box of the positions (µm).
   const Eigen::AlignedBox3d& bounds() const { return bounds_; }
 
  private:
-  std::vector<float> triangles_, lines_, points_;
-  int outerTriangleVertices_ = 0, outerLineVertices_ = 0;
+  std::vector<float> triangles_, lines_, mesh_, points_;
+  int outerTriangleVertices_ = 0, outerLineVertices_ = 0, outerMeshVertices_ = 0;
   Eigen::AlignedBox3d bounds_;
 };
 

@@ -200,6 +200,12 @@ void TissueView::setOutlinesVisible(bool on) {
   update();
 }
 
+void TissueView::setMeshVisible(bool on) {
+  if (on == mesh_) return;
+  mesh_ = on;
+  update();
+}
+
 void TissueView::setRotationMode(Camera::RotationMode mode) {
   camera_.setRotationMode(mode);
 }
@@ -418,6 +424,7 @@ GlRenderer::Frame TissueView::frame(const Camera& cam) const {
   f.clip = clipPlane();
   f.highlightCell = highlight_;
   f.outlines = outlines_;
+  f.mesh = mesh_;
   f.probe = snapshot_.probeVisible;
   f.probeCenter = snapshot_.probeCenter().cast<float>();
   f.probeRadius = float(snapshot_.probeRadius);

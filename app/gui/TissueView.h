@@ -55,6 +55,9 @@ class TissueView : public QOpenGLWidget {
   /// keeps the other side.
   void setSection(bool enabled, int axis, double fraction, bool flip);
   void setOutlinesVisible(bool on);
+  /// Draws every triangle's edges, to show where the mesh is refined around the site.
+  void setMeshVisible(bool on);
+  bool meshVisible() const { return mesh_; }
   void setRotationMode(tp::gui::Camera::RotationMode mode);
   /// What the view says while it has no tissue to draw.
   void setPlaceholder(const QString& text);
@@ -109,6 +112,7 @@ class TissueView : public QOpenGLWidget {
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
+  bool mesh_ = false;
   int sectionAxis_ = 0;
   double sectionFraction_ = 0.5;
 

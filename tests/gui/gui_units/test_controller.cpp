@@ -71,6 +71,8 @@ class ControllerTest : public QObject {
     SimulationParams p;
     p.youngModulus = 50;
     p.pressure = 0.2;
+    p.autoMesh = false;  // one run per request (the automatic mesh is tested below)
+    p.meshLevel = 0;
     c.setParams(p);
     c.loadTissue(tissue_);
     QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
@@ -119,11 +121,46 @@ class ControllerTest : public QObject {
     QCOMPARE(int(c.session().sites.size()), 1);
   }
 
+  void automaticMeshRunsUntilTheErrorIsWithinTolerance() {
+    SimulationController c;
+    SimulationParams p;
+    p.youngModulus = 50;
+    p.pressure = 0.2;
+    c.setParams(p);
+    c.loadTissue(tissue_);
+    QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
+    waitIdle(c);
+    Schedule s;
+    s.maxDepth = 0.3;
+    s.steps = 3;
+    c.setSchedule(s);
+    QSignalSpy progress(&c, &SimulationController::runProgress);
+    QSignalSpy meshText(&c, &SimulationController::meshErrorChanged);
+    c.runCurve();
+    QTRY_VERIFY_WITH_TIMEOUT(!c.running() && !c.busy(), 300000);
+    // One curve, on the level whose estimated error is within the tolerance; each coarser
+    // level's run was replaced by the finer one.
+    QCOMPARE(int(c.curves().size()), 1);
+    const NamedCurve& run = c.curves().back();
+    QVERIFY(run.meshLevel >= tp::MeshSettings{}.level);
+    QVERIFY2(run.meshError >= 0 && run.meshError <= p.meshTolerance,
+             qPrintable(QString("error %1 at level %2").arg(run.meshError).arg(run.meshLevel)));
+    QCOMPARE(run.meshErrorAt, 0.3);
+    QCOMPARE(int(run.points.size()), 4);
+    QCOMPARE(progress.count(), 3 * (run.meshLevel - tp::MeshSettings{}.level + 1));
+    QCOMPARE(c.latest().geometry->meshLevel, run.meshLevel);
+    QVERIFY(meshText.count() >= 1);
+    qInfo("automatic mesh: level %d, estimated error %.2f %%", run.meshLevel,
+          100 * run.meshError);
+  }
+
   void forceControlAndAFailedPreparation() {
     SimulationController c;
     SimulationParams p;
     p.youngModulus = 50;
     p.pressure = 0.2;
+    p.autoMesh = false;
+    p.meshLevel = 1;
     c.setParams(p);
     c.loadTissue(tissue_);
     QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
@@ -194,7 +231,20 @@ class ControllerTest : public QObject {
     }
     QVERIFY(other >= 0);
     c.requestDepth(0.2);  // keep the worker busy meanwhile
-    c.pickSite(g.generation, other, Eigen::Vector3d(1, 1, 1) / 3.0);
+    // On the geometry shown now (the first pick refined the mesh around its site), at the
+    // same place.
+    const auto shown = c.latest().geometry;
+    const std::vector<float> y = c.latest().positions;
+    Picker picker;
+    picker.build(shown->triangles, y);
+    Eigen::Vector3d corner = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const auto v = g.triangles[3 * other + k];
+      corner += Eigen::Vector3d(x[3 * v], x[3 * v + 1], x[3 * v + 2]) / 3.0;
+    }
+    const auto hit = picker.pick({corner + Eigen::Vector3d(0, 0, 5), Eigen::Vector3d(0, 0, -1)});
+    QVERIFY(hit && shown->outer[hit->triangle]);
+    c.pickSite(shown->generation, hit->triangle, hit->barycentric);
     SimulationParams p = c.params();
     p.youngModulus = 70;
     c.setParams(p);
@@ -209,10 +259,13 @@ class ControllerTest : public QObject {
   }
 
   void plasmolysedAtTheSameMaterialPoint() {
+    // On the tissue as loaded (mesh level 0), where the core below finds the material point.
     SimulationController c;
     SimulationParams p;
     p.youngModulus = 20;
     p.pressure = 0.3;
+    p.autoMesh = false;
+    p.meshLevel = 0;
     c.setParams(p);
     c.loadTissue(tissue_);
     QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
@@ -253,24 +306,29 @@ class ControllerTest : public QObject {
   }
 
   void refinementAroundTheSite() {
+    // The default mesh is refined around the site (automatic, from level 3); a fixed level 0
+    // is the tissue as loaded.
     SimulationController c;
     c.loadTissue(tissue_);
     QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
     waitIdle(c);
-    const auto coarse = c.latest().geometry;
+    const auto fine = c.latest().geometry;
+    QCOMPARE(fine->meshLevel, tp::MeshSettings{}.level);
     const Eigen::Vector3d site = c.latest().site;
     SimulationParams p = c.params();
-    p.refineLevel = 2;
+    p.autoMesh = false;
+    p.meshLevel = 0;
     c.setParams(p);
-    QTRY_VERIFY_WITH_TIMEOUT(c.latest().geometry != coarse && c.prepared() && !c.busy(), 120000);
-    const TissueGeometry& fine = *c.latest().geometry;
-    QVERIFY(fine.generation > coarse->generation);
-    QVERIFY(fine.triangleCount() > coarse->triangleCount());
-    QCOMPARE(fine.cellCount(), coarse->cellCount());
-    QCOMPARE(fine.meanCellSize, coarse->meanCellSize);  // L is the unrefined tissue's
-    // The same material point: the same place across the top. The refined wall bulges under
-    // turgor (0.65 µm here) where the coarse one, two triangles per face, stays flat.
-    const Eigen::Vector3d moved = c.latest().site - site;
+    QTRY_VERIFY_WITH_TIMEOUT(c.latest().geometry != fine && c.prepared() && !c.busy(), 120000);
+    const TissueGeometry& coarse = *c.latest().geometry;
+    QCOMPARE(coarse.meshLevel, 0);
+    QVERIFY(coarse.generation > fine->generation);
+    QVERIFY(fine->triangleCount() > coarse.triangleCount());
+    QCOMPARE(fine->cellCount(), coarse.cellCount());
+    QCOMPARE(fine->meanCellSize, coarse.meanCellSize);  // L is the loaded tissue's
+    // The same material point, across the top: the refined wall bulges under turgor where the
+    // unrefined one, a few triangles per face, stays flat.
+    const Eigen::Vector3d moved = site - c.latest().site;
     QVERIFY2(
         moved.head<2>().norm() < 0.2 && moved.z() > 0 && moved.z() < 1.5,
         qPrintable(QString("moved by (%1, %2, %3)").arg(moved.x()).arg(moved.y()).arg(moved.z())));

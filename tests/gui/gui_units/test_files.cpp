@@ -56,8 +56,9 @@ class FilesTest : public QObject {
     s.params.pressure = 0;
     s.params.bending = tp::BendingModel::None;
     s.params.probeRadius = 0.4;
-    s.params.refineLevel = 2;
-    s.params.refineRadius = 7.5;
+    s.params.autoMesh = false;
+    s.params.meshLevel = 2;
+    s.params.meshTolerance = 0.05;
     s.schedule.control = tp::Control::Force;
     s.schedule.maxForce = 12.5;
     s.schedule.steps = 7;
@@ -126,11 +127,18 @@ class FilesTest : public QObject {
         curve("site 1 (0.0, 0.0, 45.8) µm · E 100 MPa", 60, false),
         curve("with \"quotes\", commas", 25, true), curve("third", 10, false)};
     const std::string text = curvesCsv(curves);
-    size_t rows = 0;
-    for (char c : text) rows += c == '\n';
+    // One comment line per curve (its mesh and error), the header, then the points.
+    size_t rows = 0, comments = 0;
+    for (size_t start = 0; start < text.size();) {
+      const size_t end = text.find('\n', start);
+      (text[start] == '#' ? comments : rows) += 1;
+      start = end + 1;
+    }
+    QCOMPARE(int(comments), 3);
     QCOMPARE(int(rows), 1 + 6 + 7 + 6);
-    QVERIFY(text.rfind("curve,depth_um,force_uN,iterations,residual,converged,unloading\n", 0) ==
-            0);
+    QVERIFY(text.find("\ncurve,depth_um,force_uN,iterations,residual,converged,unloading\n") !=
+            std::string::npos);
+    QVERIFY(text.rfind("# \"site 1 (0.0, 0.0, 45.8) µm · E 100 MPa\": mesh level", 0) == 0);
     const auto back = parseCurvesCsv(text, "curves.csv");
     QCOMPARE(int(back.size()), 3);
     for (int i = 0; i < 3; ++i) {
