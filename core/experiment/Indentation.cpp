@@ -320,6 +320,14 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
     }
     iterations += rep.iterations;
     residual = rep.relativeResidual();
+    if (rep.converged && !forceControl && target > 0 && !(probeForce() > 0)) {
+      // The probe is below the first contact and nothing pushes back: it has lost the surface
+      // (through a wall, or off its side). Never a converged point.
+      std::ostringstream why;
+      why << "contact lost at depth " << target << " µm (no force on the probe)";
+      rep.converged = false;
+      rep.message = why.str();
+    }
     if (rep.converged) {
       x_ = x;
       depth_ = travel;
@@ -423,6 +431,10 @@ CurvePoint Indentation::solveFrom(double target, bool forceControl, Points guess
     rep = solver_->solve(guess, &fc);
     iterations += rep.iterations;
     travel = fc.travel;
+  }
+  if (rep.converged && !forceControl && target > 0 && !(probeForce() > 0)) {
+    rep.converged = false;
+    rep.message = "contact lost at depth " + std::to_string(target) + " µm (no force on the probe)";
   }
   if (!rep.converged) {  // the guess was not good enough: nothing changes
     model_.setProbe({placement_.contactCenter + depth_ * placement_.axis, settings_.probeRadius});

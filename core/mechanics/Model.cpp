@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 
@@ -116,6 +117,53 @@ void Model::forContactTriangles(const Points& x, Fn&& fn) const {
     if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
     fn(t, a, b, c);
   }
+}
+
+double Model::probeDistance(const Points& x) const {
+  if (!probe_) return std::numeric_limits<double>::infinity();
+  double d2 = std::numeric_limits<double>::infinity();
+  for (int t : topo_.outerTriangles) {
+    const auto& tri = cc_->triangles[t];
+    d2 = std::min(d2, pointTriangleDistance2(probe_->center, x.col(tri[0]), x.col(tri[1]),
+                                             x.col(tri[2]), nullptr, nullptr, nullptr));
+  }
+  return std::sqrt(d2);
+}
+
+double Model::contactStepBound(const Points& x, const Points& dx, const Vec3& dp) const {
+  if (!probe_) return 1.0;
+  const double clearance = contactClearance();
+  const Vec3& p = probe_->center;
+  double bound = 1.0;
+  for (int t : topo_.outerTriangles) {
+    const auto& tri = cc_->triangles[t];
+    double speed = 0;  // the largest vertex displacement relative to the probe over the step
+    for (int k = 0; k < 3; ++k) speed = std::max(speed, (dx.col(tri[k]) - dp).norm());
+    auto distanceAt = [&](double a) {
+      return std::sqrt(pointTriangleDistance2(p + a * dp, x.col(tri[0]) + a * dx.col(tri[0]),
+                                              x.col(tri[1]) + a * dx.col(tri[1]),
+                                              x.col(tri[2]) + a * dx.col(tri[2]), nullptr,
+                                              nullptr, nullptr));
+    };
+    double d = distanceAt(0.0);
+    if (!(d > clearance)) return 0.0;
+    if (d - speed * bound >= clearance) continue;  // cannot come within the clearance
+    // Advance while the bound guarantees the clearance; stop once within 1 % of it (the
+    // distance can then close at most 1 % of the clearance before the next check).
+    double a = 0;
+    for (int it = 0; it < 50 && a < bound; ++it) {
+      const double gap = d - clearance;
+      if (gap <= 0.01 * clearance) break;
+      a = std::min(bound, a + gap / speed);
+      d = distanceAt(a);
+      if (!(d > clearance)) {  // round-off at the clearance: step back inside the guarantee
+        a = std::max(0.0, a - 0.01 * clearance / speed);
+        break;
+      }
+    }
+    bound = std::min(bound, a);
+  }
+  return bound;
 }
 
 double Model::energy(const Points& x, EnergyParts* parts) const {

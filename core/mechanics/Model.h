@@ -77,6 +77,21 @@ class Model {
   /// off by default so that evaluate() returns the exact Hessian).
   void setProjectContactHessian(bool on) { projectContact_ = on; }
 
+  /// Contact that cannot be lost: the probe's centre must stay at least this far (µm, half the
+  /// probe's radius) from every outer triangle. The contact energy is a penalty on the unsigned
+  /// distance, so a centre that crossed a wall would be pushed on through it; a state that keeps
+  /// the clearance cannot have tunnelled, and solvers keep it at every step (contactStepBound).
+  double contactClearance() const { return probe_ ? 0.5 * probe_->radius : 0.0; }
+  /// The smallest distance (µm) from the probe's centre to an outer triangle at positions x
+  /// (infinity without a probe).
+  double probeDistance(const Points& x) const;
+  /// The largest α in [0, 1] for which moving the vertices by α·dx and the probe's centre by
+  /// α·dp keeps the clearance all along the way, by conservative advancement: the distance from a
+  /// point to a triangle shrinks at most as fast as the largest relative speed of its vertices
+  /// (Mirtich, "Impulse-based dynamic simulation", 1996, §2.4; the bound IPC's additive CCD uses).
+  /// 0 when x itself is within the clearance.
+  double contactStepBound(const Points& x, const Points& dx, const Vec3& dp) const;
+
   double energy(const Points& x, EnergyParts* parts = nullptr) const;
   void evaluate(const Points& x, Evaluation& out, bool withHessian) const;
 

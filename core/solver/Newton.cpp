@@ -227,6 +227,11 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     ~Remember() { to = from; }
   } remember{projectContact, projectedLastSolve_};
   evaluateAt(x, travel, false, ev_);
+  // Contact that cannot be lost: start clear of the walls and keep the clearance at every step.
+  if (model_.probe() && !(model_.probeDistance(x) > model_.contactClearance()))
+    return fail("the probe starts within half its radius of a wall (a step too large for the "
+                "contact to be followed)");
+  Points stepPoints;
   for (int it = 0;; ++it) {
     measure(ev_, travel, rep.energy, rep.residual, rep.loadScale);
     rep.iterations = it;
@@ -352,6 +357,14 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
 
     double alphaMax = 1.0;
     if (fc && maxProbeStep > 0 && std::abs(ds) > maxProbeStep) alphaMax = maxProbeStep / std::abs(ds);
+    if (model_.probe()) {
+      stepPoints.setZero(3, x.cols());
+      for (int i = 0; i < n; ++i) stepPoints.data()[freeDofs[i]] = dx[i];
+      const double bound = model_.contactStepBound(x, stepPoints, fc ? Vec3(ds * fc->axis) : Vec3::Zero());
+      if (!(bound > 1e-12 * alphaMax))
+        return fail("no step keeps the probe clear of the walls (contact would be lost)");
+      alphaMax = std::min(alphaMax, bound);
+    }
 
     // Backtracking line search on the energy (Armijo). When the energy change is within its
     // round-off (the energy is a sum of terms far larger than their total), a step is judged by
