@@ -43,7 +43,8 @@ Vec3 parseVec3(const std::string& text, const std::string& option) {
   std::string item;
   int k = 0;
   while (std::getline(ss, item, ',')) {
-    if (k >= 3) break;
+    if (k >= 3)
+      throw UsageError(option + ": expected three comma-separated numbers, got '" + text + "'");
     try {
       size_t used = 0;
       v[k] = std::stod(item, &used);
@@ -293,11 +294,20 @@ int runBuild(const BuildArgs& b) {
       throw std::runtime_error("the tissue built from " + b.centroids +
                                " is not valid: " + rep.validity.summary());
   } else if (!b.box.empty()) {
-    int n[3];
-    if (std::sscanf(b.box.c_str(), "%d,%d,%d", &n[0], &n[1], &n[2]) != 3 || n[0] < 1 || n[1] < 1 ||
-        n[2] < 1)
+    long long n[3];
+    char rest = 0;
+    if (std::sscanf(b.box.c_str(), "%lld,%lld,%lld%c", &n[0], &n[1], &n[2], &rest) != 3 ||
+        n[0] < 1 || n[1] < 1 || n[2] < 1)
       throw UsageError("--box: expected three positive cell counts NX,NY,NZ, got '" + b.box + "'");
-    cc = boxTissue(n[0], n[1], n[2], b.cellSize);
+    if (n[0] > kMaxCells || n[1] > kMaxCells || n[2] > kMaxCells ||
+        n[0] * n[1] * n[2] > kMaxCells)
+      throw UsageError("--box: " + b.box + " is more than " + std::to_string(kMaxCells) +
+                       " cells (the largest tissue built)");
+    if (!(std::isfinite(b.cellSize) && b.cellSize > 0 && b.cellSize <= 1e3))
+      throw UsageError("--cell-size: expected a size between 0 and 1000 um, got " +
+                       std::to_string(b.cellSize));
+    cc = boxTissue(static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2]),
+                   b.cellSize);
   } else {
     throw UsageError("choose what to build: --generate, --centroids FILE or --box NX,NY,NZ");
   }
@@ -407,7 +417,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Help and version exit 0; every parse error exits 2 like the other usage errors.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
     if (*indent) return runIndent(ia);

@@ -228,7 +228,10 @@ void MainWindow::wire() {
           [this](const QString& m) { statusBar()->showMessage(m, 5000); });
   connect(c, &SimulationController::solveFailed, view_, &TissueView::clearTarget);
   connect(c, &SimulationController::solveFailed, this, [this](const QString& m) {
-    statusBar()->showMessage(tr("Not converged: %1").arg(m), 15000);
+    statusBar()->showMessage(tr("Not converged: %1").arg(m));  // stays until the next message
+  });
+  connect(c, &SimulationController::settingsRefused, this, [this](const QString& m) {
+    showError(this, tr("Settings refused"), m);
   });
   connect(c, &SimulationController::loadFailed, this, [this](const QString& m) {
     view_->setPlaceholder(

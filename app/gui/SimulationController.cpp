@@ -33,6 +33,7 @@ SimulationController::SimulationController(QObject* parent) : QObject(parent) {
   connect(worker_, &SimulationWorker::loadFailed, this,
           [this](const QString&, const QString& message) { emit loadFailed(message); });
   connect(worker_, &SimulationWorker::failed, this, &SimulationController::solveFailed);
+  connect(worker_, &SimulationWorker::refused, this, &SimulationController::settingsRefused);
   connect(worker_, &SimulationWorker::runStarted, this, &SimulationController::onRunStarted);
   connect(worker_, &SimulationWorker::meshErrorEstimated, this,
           &SimulationController::onMeshError);

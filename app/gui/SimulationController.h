@@ -68,6 +68,8 @@ class SimulationController : public QObject {
   void busyChanged(bool busy, const QString& what);
   void statusMessage(const QString& text);
   void solveFailed(const QString& message);
+  /// Settings or a site refused before any solve (shown in a dialog).
+  void settingsRefused(const QString& message);
   void loadFailed(const QString& message);
   void tissueLoaded(const QString& path, const QString& summary);
   void paramsChanged(const tp::gui::SimulationParams& params);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <exception>
+#include <stdexcept>
 #include <sstream>
 
 #include "experiment/Stress.h"
@@ -180,6 +181,7 @@ void SimulationWorker::processNext() {
     } catch (const Cancelled&) {
       // Stopped for a newer request: it follows in the queue.
     } catch (const std::exception& e) {
+      if (dynamic_cast<const std::invalid_argument*>(&e)) emit refused(QString::fromUtf8(e.what()));
       emit failed(QString::fromUtf8(e.what()));
     }
   }
@@ -287,6 +289,7 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
   } catch (const Cancelled&) {
     throw;
   } catch (const std::exception& e) {
+    if (dynamic_cast<const std::invalid_argument*>(&e)) emit refused(QString::fromUtf8(e.what()));
     emit failed(
         tr("Preparation failed, the previous state is kept: %1").arg(QString::fromUtf8(e.what())));
     return false;
@@ -394,6 +397,7 @@ void SimulationWorker::handle(const Run& r) {
     completed = runSchedule(r.schedule, false);
   } catch (const Cancelled&) {
   } catch (const std::exception& e) {
+    if (dynamic_cast<const std::invalid_argument*>(&e)) emit refused(QString::fromUtf8(e.what()));
     emit failed(QString::fromUtf8(e.what()));
   }
   emit runFinished(completed);

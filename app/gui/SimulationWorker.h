@@ -70,6 +70,9 @@ class SimulationWorker : public QObject {
   void loadFailed(const QString& path, const QString& message);
   /// A solve that failed; the last good state is kept.
   void failed(const QString& message);
+  /// Settings or a site refused before solving (out of range, off the tissue, on its clamped
+  /// base), with the value and what is allowed; `failed` follows with the same message.
+  void refused(const QString& message);
   /// A run begins; `rerun` when it replaces the last one on a finer mesh.
   void runStarted(int total, bool rerun);
   void runProgress(int done, int total);

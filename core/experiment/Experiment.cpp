@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "mesh/CellComplex.h"
@@ -130,12 +131,34 @@ Experiment::Experiment(std::shared_ptr<const CellComplex> tissue, ExperimentSett
   settings_.validate();
   cellSize_ = meanCellSize(*tissue_);
   if (!(cellSize_ > 0)) cellSize_ = 5.0;  // a sheet: refine within a few µm
+  checkAgainstTissue(settings_);
+}
+
+void Experiment::checkAgainstTissue(const ExperimentSettings& s) const {
+  // What only makes sense relative to this tissue's size: a probe no larger than the tissue, and
+  // depths that stay within it (deeper, the probe would come out of the far side).
+  const Points& X = tissue_->rest;
+  const double size = X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm() : 0.0;
+  const IndentationSettings& i = s.indentation;
+  if (i.probeRadius > size) {
+    std::ostringstream o;
+    o << "the probe radius (" << i.probeRadius << " µm) is larger than the tissue (" << size
+      << " µm across)";
+    throw std::invalid_argument(o.str());
+  }
+  if (i.control == Control::Depth && i.maxDepth > 0.5 * size) {
+    std::ostringstream o;
+    o << "the depth " << i.maxDepth << " µm is more than half the size of the tissue (" << size
+      << " µm across): at most " << 0.5 * size << " µm";
+    throw std::invalid_argument(o.str());
+  }
 }
 
 Experiment::~Experiment() = default;
 
 void Experiment::setSettings(ExperimentSettings s) {
   s.validate();
+  checkAgainstTissue(s);
   if (!sameMechanics(s, settings_)) {
     baseReady_ = false;
     baseModel_.reset();
@@ -185,21 +208,74 @@ void Experiment::prepareBase(const Monitor& monitor) {
   const Points& x = baseTurgid_;
   int t = -1;
   Vec3 site;
+  auto where = [](const Vec3& v) {
+    std::ostringstream o;
+    o << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+    return o.str();
+  };
+  // A site given by the user must be on (or within a cell of) the surface: farther away, the
+  // nearest surface point is somewhere the user did not mean.
+  auto near = [&](const Vec3& asked, const Vec3& onSurface) {
+    const double d = (asked - onSurface).norm();
+    if (d > cellSize_) {
+      std::ostringstream o;
+      o << "the site " << where(asked) << " µm is " << d << " µm from the tissue surface, "
+        << "more than a cell (" << cellSize_ << " µm): give a point on or near the surface";
+      throw std::invalid_argument(o.str());
+    }
+  };
   if (s.restSite) {
     restSite_ = nearestSurfacePoint(*baseModel_, tissue_->rest, *s.restSite, &t);
+    near(*s.restSite, restSite_);
   } else {
     site = s.site ? nearestSurfacePoint(*baseModel_, x, *s.site, &t)
                   : topSurfacePoint(*baseModel_, x, &t);
+    if (s.site) near(*s.site, site);
     restSite_ = restPositionOf(*baseModel_, x, site, t);
+  }
+  // Not on the clamped base: a probe whose contact patch (the probe radius around the site)
+  // reaches clamped material (a clamped vertex, or an edge between two) pushes on walls that
+  // cannot move.
+  {
+    const Points& X = tissue_->rest;
+    auto refuse = [&](const std::string& what) {
+      std::ostringstream o;
+      o << "the site " << where(restSite_) << " µm is on the clamped base of the tissue (" << what
+        << " is within the probe radius, " << s.probeRadius << " µm)";
+      throw std::invalid_argument(o.str());
+    };
+    for (int tri : baseModel_->topology().outerTriangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = tissue_->triangles[tri][k], b = tissue_->triangles[tri][(k + 1) % 3];
+        if (!tissue_->fixed[a]) continue;
+        if ((X.col(a) - restSite_).norm() < s.probeRadius)
+          refuse("clamped vertex " + std::to_string(a));
+        if (!tissue_->fixed[b]) continue;
+        const Vec3 e = X.col(b) - X.col(a);
+        const double u = std::clamp((restSite_ - X.col(a)).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+        if ((X.col(a) + u * e - restSite_).norm() < s.probeRadius)
+          refuse("the clamped edge " + std::to_string(a) + "-" + std::to_string(b));
+      }
   }
   // One axis for every level: the inward normal of the tissue as given (or the one asked for),
   // so that refining, which lets the walls near the site bulge, does not tilt the probe.
+  int tb = -1;
+  const Vec3 onBase = nearestSurfacePoint(*baseModel_, x, transferPoint(restSite_), &tb);
+  const Vec3 inward = inwardNormal(*baseModel_, x, onBase, tb, s.probeRadius);
   if (s.axis) {
     axis_ = s.axis->normalized();
+    // Into the tissue: within 80° of the inward normal (a probe grazing the surface or pointing
+    // out of it starts inside the tissue or never touches it).
+    const double c = axis_.dot(inward);
+    if (!(c > std::cos(80.0 * std::numbers::pi / 180.0))) {
+      std::ostringstream o;
+      o << "the probe axis " << where(*s.axis) << " does not point into the tissue at the site: it is "
+        << std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi
+        << "° from the inward normal " << where(inward) << " (at most 80° allowed)";
+      throw std::invalid_argument(o.str());
+    }
   } else {
-    int tb = -1;
-    const Vec3 onBase = nearestSurfacePoint(*baseModel_, x, transferPoint(restSite_), &tb);
-    axis_ = inwardNormal(*baseModel_, x, onBase, tb, s.probeRadius);
+    axis_ = inward;
   }
   baseReady_ = true;
 }
@@ -236,6 +312,14 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
   } else {
     if (!unrefined_) unrefined_ = std::make_shared<const RefinedComplex>(unrefined(*tissue_));
     site->mesh = unrefined_;
+  }
+  if (site->mesh->complex.vertexCount() > kMaxVertices) {
+    std::ostringstream o;
+    o << "mesh level " << level << " makes " << site->mesh->complex.vertexCount()
+      << " vertices here, more than the " << kMaxVertices
+      << " this program solves (about 7 GB on the scaling benchmark): choose a lower level or a "
+         "looser --mesh-tolerance";
+    throw std::invalid_argument(o.str());
   }
   site->complex = std::shared_ptr<const CellComplex>(site->mesh, &site->mesh->complex);
   site->refinement = site->mesh->report;
@@ -358,6 +442,9 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
     } catch (const Cancelled&) {
       result.cancelled = true;
       result.message = "cancelled while estimating the mesh error";
+      return result;
+    } catch (const std::invalid_argument& e) {  // the next level is larger than we solve
+      result.message = std::string("the mesh error could not be estimated: ") + e.what();
       return result;
     }
     {

@@ -282,7 +282,15 @@ CellComplex generateMeristem(const MeristemParams& prm, MeristemReport* report) 
   const DomeShape& shape = prm.shape;
   if (!(shape.radius > 0 && shape.capHeight > 0 && shape.stemHeight >= 0))
     throw std::invalid_argument("the dome needs a positive radius and cap height");
-  if (prm.cells < 10) throw std::invalid_argument("a meristem needs at least 10 cells");
+  if (!(std::isfinite(shape.radius) && std::isfinite(shape.capHeight) &&
+        std::isfinite(shape.stemHeight) && shape.radius <= 1e4 && shape.capHeight <= 1e4 &&
+        shape.stemHeight <= 1e4))
+    throw std::invalid_argument("the dome's sizes must be finite and at most 10000 µm");
+  // About 5 vertices and 20 triangles a cell: 20,000 cells is ~100k vertices, ~1.5 GB to solve
+  // on 2 cores (bench/README.md); more is refused, not attempted.
+  if (prm.cells < 10 || prm.cells > kMaxCells)
+    throw std::invalid_argument("a meristem has between 10 and " + std::to_string(kMaxCells) +
+                                " cells (asked for " + std::to_string(prm.cells) + ")");
   if (!(prm.l1Thickness > 0 && prm.l2Thickness > 0) ||
       prm.l1Thickness + prm.l2Thickness >= std::min(shape.radius, shape.height()))
     throw std::invalid_argument("the L1 and L2 layers do not fit in the dome");

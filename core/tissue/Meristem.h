@@ -29,6 +29,9 @@ struct DomeShape {
   double depth(const Vec3& p) const;
 };
 
+/// The largest tissue the builders make (cells): about 100k vertices.
+inline constexpr int kMaxCells = 20000;
+
 struct MeristemParams {
   DomeShape shape;
   int cells = 500;                 // target cell count (reached to within a few percent)

@@ -114,6 +114,9 @@ CellComplex tissueFromCentroids(const CentroidTable& table, const RealTissueOpti
   const double offset = opt.offset >= 0 ? opt.offset : 0.5 * rep.cellSize;
   double zmin = all[0].z();
   for (const auto& p : all) zmin = std::min(zmin, p.z());
+  if (opt.baseZ && !std::isfinite(*opt.baseZ))
+    throw std::invalid_argument("the base plane z must be a finite number (got " +
+                                std::to_string(*opt.baseZ) + ")");
   rep.baseZ = opt.baseZ ? *opt.baseZ : zmin + rep.cellSize;
 
   // The closing surface is reconstructed from every centroid, then the base plane cuts it.

@@ -94,6 +94,22 @@ TEST(Cli, ForceControlAndUnloading) {
   EXPECT_NEAR(curve.back().depth, 0.0, 1e-3);
 }
 
+TEST(Cli, DeepIndentationKeepsContact) {
+  // Issue 9: to 5 µm (25 wall thicknesses, five probe radii) in 0.5 µm steps on the shipped
+  // default meristem, where the unrefined mesh lost the contact past 4.5 µm and reported 0 µN as
+  // converged. Every point must carry force, rising with depth.
+  const std::string csv = tmp("deep.csv");
+  const CliRun r = cli("indent --depth 5 --steps 10 --refine 3 --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto curve = tp::readCurveCsv(csv);
+  ASSERT_EQ(curve.size(), 11u);
+  for (size_t k = 1; k < curve.size(); ++k) {
+    EXPECT_TRUE(curve[k].converged) << "point " << k;
+    EXPECT_GT(curve[k].force, 1.05 * curve[k - 1].force) << "point " << k;
+  }
+  EXPECT_NEAR(curve.back().depth, 5.0, 1e-9);
+}
+
 TEST(Cli, ReferenceSolverGivesTheSameCurve) {
   const std::string a = tmp("newton.csv"), b = tmp("euler.csv");
   // On the tissue as given (--refine 0), as the published method was.
@@ -157,6 +173,43 @@ TEST(Cli, BadInputIsNamed) {
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("376 error(s)"));
   EXPECT_THAT(r.output, HasSubstr("surface mesh"));
+}
+
+TEST(Cli, OptionsAreCheckedUpFrontWithTheirRange) {
+  // Issue 9: each of these ran (for minutes, or to a wrong answer with exit 0); now each is
+  // refused at once with exit 2 and a message naming the value and what is allowed.
+  const std::string mesh = " --mesh " + smallTissue();
+  const std::string out = " --out " + tmp("never.ply");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"indent" + mesh + " --probe-radius 1e-9", "the probe radius must be between 0.001 and 1000 µm (got 1e-09)"},
+      {"indent" + mesh + " --probe-radius 1e6", "the probe radius must be between 0.001 and 1000 µm (got 1e+06)"},
+      {"indent" + mesh + " --tolerance 1e10", "the solver tolerance must be between 1e-14 and 1e-3 (got 1e+10)"},
+      {"indent" + mesh + " --tolerance nan", "the solver tolerance must be between 1e-14 and 1e-3 (got nan)"},
+      {"indent" + mesh + " --steps 10000000", "the number of steps must be between 1 and 100000"},
+      {"indent" + mesh + " --pressure -0.8", "the turgor pressure must be between 0 and 100 MPa (got -0.8)"},
+      {"indent" + mesh + " --pressure 1e6", "the turgor pressure must be between 0 and 100 MPa"},
+      {"indent" + mesh + " --force 1e9", "the force must be positive and at most 1e7 µN (got 1e+09)"},
+      {"indent" + mesh + " --refine 60", "the refinement level must be between 0 and 6 (got 60)"},
+      {"indent" + mesh + " --depth 1e3", "the depth 1000 µm is more than half the size of the tissue"},
+      {"indent" + mesh + " --site 0,0,-1000", "µm from the tissue surface, more than a cell"},
+      {"indent" + mesh + " --site 1,2,3,4", "--site: expected three comma-separated numbers, got '1,2,3,4'"},
+      {"indent" + mesh + " --axis 0,0,1", "the probe axis (0, 0, 1) does not point into the tissue at the site"},
+      {"indent" + mesh + " --depth abc", "--depth"},
+      {"build --generate --cells 10000000" + out, "a meristem has between 10 and 20000 cells (asked for 10000000)"},
+      {"build --box 1000,1000,1000" + out, "--box: 1000,1000,1000 is more than 20000 cells"},
+      {"build --box 4294967298,2,1" + out, "--box: 4294967298,2,1 is more than 20000 cells"},
+      {"build --box 2,2" + out, "--box: expected three positive cell counts NX,NY,NZ, got '2,2'"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun r = cli(args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(message)) << args;
+  }
+  EXPECT_FALSE(std::filesystem::exists(tmp("never.ply")));
+  // On the clamped base of the shipped meristem (z = 0).
+  const CliRun r = cli("indent --site 40,0,0");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("is on the clamped base of the tissue"));
 }
 
 TEST(Cli, InfoAndBuildFromCentroids) {
