@@ -3,12 +3,17 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <stdexcept>
+#include <mutex>
 #include <system_error>
+
+#include <signal.h>
+#include <unistd.h>
 
 namespace tp {
 
@@ -41,9 +46,63 @@ fs::path temporarySibling(const fs::path& target) {
                            "': no free temporary file name in its directory");
 }
 
-}  // namespace
+// Temporary files being written, removed by a SIGINT/SIGTERM/SIGHUP handler so that an
+// interrupted run leaves no hidden .NAME.tmp-* files behind. Fixed slots of plain chars: the
+// handler may only call async-signal-safe functions (unlink, signal, raise).
+constexpr int kSlots = 32;
+constexpr int kPathMax = 4096;
+char pendingPaths[kSlots][kPathMax];
+std::atomic<bool> pendingUsed[kSlots];
 
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+extern "C" void removePendingAndReraise(int sig) {
+  for (int i = 0; i < kSlots; ++i)
+    if (pendingUsed[i].load()) ::unlink(pendingPaths[i]);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void installCleanupHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction old {};
+      if (sigaction(sig, nullptr, &old) != 0) continue;
+      if (old.sa_handler != SIG_DFL) continue;  // someone else handles it (the application)
+      struct sigaction sa {};
+      sa.sa_handler = removePendingAndReraise;
+      sigemptyset(&sa.sa_mask);
+      sigaction(sig, &sa, nullptr);
+    }
+  });
+}
+
+int registerPending(const fs::path& tmp) {
+  installCleanupHandlers();
+  const std::string s = tmp.string();
+  if (s.size() >= kPathMax) return -1;
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  for (int i = 0; i < kSlots; ++i)
+    if (!pendingUsed[i].load()) {
+      std::memcpy(pendingPaths[i], s.c_str(), s.size() + 1);
+      pendingUsed[i].store(true);
+      return i;
+    }
+  return -1;
+}
+
+void unregisterPending(int slot) {
+  if (slot >= 0) pendingUsed[slot].store(false);
+}
+
+// One file written to its temporary sibling, not yet renamed into place.
+struct Pending {
+  std::string path;  // as given (for messages)
+  fs::path target, tmp;
+  int slot = -1;
+};
+
+fs::path resolveTarget(const std::string& path) {
   if (path.empty()) throw std::runtime_error("cannot write a file with an empty name");
   fs::path target(path);
   std::error_code ec;
@@ -54,19 +113,28 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   }
   if (fs::is_directory(target, ec))
     throw std::runtime_error("cannot write '" + path + "': it is a directory");
+  return target;
+}
 
-  const fs::path tmp = temporarySibling(target);
+Pending writeTemporary(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  Pending p;
+  p.path = path;
+  p.target = resolveTarget(path);
+  checkWritable(path);
+  p.tmp = temporarySibling(p.target);
+  p.slot = registerPending(p.tmp);
   auto fail = [&](const std::string& reason) {
     std::error_code ignored;
-    fs::remove(tmp, ignored);
+    fs::remove(p.tmp, ignored);
+    unregisterPending(p.slot);
     return std::runtime_error("cannot write '" + path + "': " + reason);
   };
 
   errno = 0;
-  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  std::ofstream out(p.tmp, std::ios::binary | std::ios::trunc);
   if (!out) {
     const int err = errno;
-    throw fail("cannot create temporary file '" + tmp.string() +
+    throw fail("cannot create temporary file '" + p.tmp.string() +
                "': " + errnoText(err, "unknown error"));
   }
   try {
@@ -74,7 +142,8 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   } catch (...) {
     out.close();
     std::error_code ignored;
-    fs::remove(tmp, ignored);
+    fs::remove(p.tmp, ignored);
+    unregisterPending(p.slot);
     throw;
   }
   errno = 0;
@@ -84,12 +153,76 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   if (out.fail()) throw fail("closing failed: " + errnoText(errno, "stream error"));
 
   // Keep the permissions of the file being replaced (a new file gets the default ones).
-  if (fs::exists(target, ec)) {
-    const auto perms = fs::status(target, ec).permissions();
-    if (!ec) fs::permissions(tmp, perms, ec);
+  std::error_code ec;
+  if (fs::exists(p.target, ec)) {
+    const auto perms = fs::status(p.target, ec).permissions();
+    if (!ec) fs::permissions(p.tmp, perms, ec);
   }
-  fs::rename(tmp, target, ec);
-  if (ec) throw fail("cannot rename temporary file into place: " + ec.message());
+  return p;
+}
+
+void discard(const Pending& p) {
+  std::error_code ignored;
+  fs::remove(p.tmp, ignored);
+  unregisterPending(p.slot);
+}
+
+void commit(const Pending& p) {
+  std::error_code ec;
+  fs::rename(p.tmp, p.target, ec);
+  if (ec) {
+    discard(p);
+    throw std::runtime_error("cannot write '" + p.path +
+                             "': cannot rename temporary file into place: " + ec.message());
+  }
+  unregisterPending(p.slot);
+}
+
+}  // namespace
+
+void checkWritable(const std::string& path) {
+  const fs::path target = resolveTarget(path);
+  std::error_code ec;
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec))
+    throw std::runtime_error("cannot write '" + path + "': the folder '" + dir.string() +
+                             "' does not exist");
+  // Read-only by its mode bits too: root passes access(), but a file nobody may write is one
+  // its owner meant to keep.
+  if (fs::exists(target, ec) &&
+      (::access(target.c_str(), W_OK) != 0 ||
+       (fs::status(target, ec).permissions() &
+        (fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write)) ==
+           fs::perms::none))
+    throw std::runtime_error("cannot write '" + path + "': the file is read-only");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw std::runtime_error("cannot write '" + path + "': the folder '" + dir.string() +
+                             "' is not writable");
+}
+
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  commit(writeTemporary(path, write));
+}
+
+void writeFilesAtomically(
+    const std::vector<std::pair<std::string, std::function<void(std::ostream&)>>>& files) {
+  std::vector<Pending> done;
+  try {
+    for (const auto& [path, write] : files) done.push_back(writeTemporary(path, write));
+  } catch (...) {
+    for (const auto& p : done) discard(p);
+    throw;
+  }
+  // Every file is complete: only renames are left (same folders, so they do not fail for want
+  // of space).
+  for (size_t i = 0; i < done.size(); ++i) {
+    try {
+      commit(done[i]);
+    } catch (...) {
+      for (size_t j = i + 1; j < done.size(); ++j) discard(done[j]);
+      throw;
+    }
+  }
 }
 
 void writeFileAtomically(const std::string& path, std::string_view contents) {

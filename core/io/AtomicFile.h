@@ -8,6 +8,8 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace tp {
 
@@ -20,5 +22,17 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 
 /// Same, with the complete contents given.
 void writeFileAtomically(const std::string& path, std::string_view contents);
+
+/// Several files, all or nothing: each is written to its temporary sibling first and only when
+/// every one is complete are they renamed into place; if one cannot be written none is replaced.
+void writeFilesAtomically(
+    const std::vector<std::pair<std::string, std::function<void(std::ostream&)>>>& files);
+
+/// Throws std::runtime_error naming the path unless it can be written: its folder exists and is
+/// writable, and an existing file is not read-only (a read-only result is never replaced).
+void checkWritable(const std::string& path);
+
+// Temporary files are removed when the process is stopped by SIGINT, SIGTERM or SIGHUP (unless
+// the program handles those signals itself).
 
 }  // namespace tp

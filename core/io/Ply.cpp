@@ -14,11 +14,15 @@
 #include <span>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 
 namespace tp {
 
 namespace {
+
+// Coordinates are µm; beyond 1 m nothing is a tissue, and volumes (x³) would overflow near 1e308.
+constexpr double kMaxCoordinate = 1e6;
 
 // ---------------------------------------------------------------------------------------------
 // Scalar types and number parsing
@@ -647,6 +651,9 @@ class PlyReader {
         if (!std::isfinite(c))
           failAt(std::string("coordinate ") + "xyz"[static_cast<int>(r) - 1] + " is " + str(c) +
                  " (not finite)");
+        if (std::abs(c) > kMaxCoordinate)  // 1 m: beyond any tissue, and volumes would overflow
+          failAt(std::string("coordinate ") + "xyz"[static_cast<int>(r) - 1] + " is " + str(c) +
+                 " µm (at most " + str(kMaxCoordinate) + " µm in magnitude)");
         xyz_.push_back(c);
       }
       fixed_.push_back(val[static_cast<int>(Role::Fixed)] != 0 ? 1 : 0);
@@ -777,6 +784,7 @@ class PlyReader {
   CellComplex assemble(PlyInfo& info);
   void resolveLabels(std::vector<char>& keep, PlyInfo& info);
   bool closedSurface();
+  void checkConsistentWinding();
 
   std::string data_, name_;
   std::size_t pos_ = 0;
@@ -908,6 +916,50 @@ bool PlyReader::closedSurface() {
   return true;
 }
 
+// An unlabelled surface that is closed but for the winding of some faces (every edge shared by
+// exactly two faces, some pairs running it the same way) is refused with the faces named: read
+// as a sheet it would silently lose its cell and its pressure.
+void PlyReader::checkConsistentWinding() {
+  struct Use {
+    int a, b, face;
+  };
+  std::vector<Use> uses;
+  for (int f = 0; f < faces_.count(); ++f) {
+    const auto v = faces_.of(f);
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const int a = v[k], b = v[(k + 1) % v.size()];
+      uses.push_back({std::min(a, b), std::max(a, b), f});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
+    return std::tie(x.a, x.b, x.face) < std::tie(y.a, y.b, y.face);
+  });
+  std::vector<std::pair<int, int>> flipped;  // pairs of faces running an edge the same way
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].a == uses[i].a && uses[j].b == uses[i].b) ++j;
+    if (j - i != 2) return;  // an open or non-manifold surface: a sheet, as documented
+    auto runsForward = [&](const Use& u) {
+      const auto v = faces_.of(u.face);
+      for (std::size_t k = 0; k < v.size(); ++k)
+        if (v[k] == u.a && v[(k + 1) % v.size()] == u.b) return true;
+      return false;
+    };
+    if (runsForward(uses[i]) == runsForward(uses[i + 1]))
+      flipped.emplace_back(uses[i].face, uses[i + 1].face);
+    i = j;
+  }
+  if (flipped.empty()) return;
+  std::string list;
+  for (std::size_t k = 0; k < std::min<std::size_t>(flipped.size(), 5); ++k)
+    list += (k ? ", " : "") + std::to_string(flipped[k].first) + " and " +
+            std::to_string(flipped[k].second);
+  fail("the surface is closed but its faces are not wound consistently: " +
+       std::to_string(flipped.size()) + " edge(s) run the same way in both of their faces (faces " +
+       list + (flipped.size() > 5 ? ", …" : "") +
+       "); wind every face the same way round (e.g. outward)");
+}
+
 CellComplex PlyReader::assemble(PlyInfo& info) {
   CellComplex cc;
   const int V = vertexCount_, F = faces_.count();
@@ -930,6 +982,7 @@ CellComplex PlyReader::assemble(PlyInfo& info) {
     std::fill(faces_.cell.begin(), faces_.cell.end(), 0);
     std::fill(faces_.neighbor.begin(), faces_.neighbor.end(), -1);
   } else {
+    checkConsistentWinding();
     std::fill(faces_.cell.begin(), faces_.cell.end(), -1);
     std::fill(faces_.neighbor.begin(), faces_.neighbor.end(), -1);
   }

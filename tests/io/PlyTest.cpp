@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "io/IoTestUtil.h"
+#include "mesh/Quality.h"
 #include "tissue/Shapes.h"
 
 namespace tp {
@@ -263,6 +264,8 @@ TEST(PlyRead, OpenQuadSheetHasNoCell) {
   for (const Wall& w : cc.walls) EXPECT_EQ(w.cell, -1);
   EXPECT_TRUE(checkValidity(cc).ok());
   EXPECT_NEAR(triangleAreas(cc, cc.rest)[0] + triangleAreas(cc, cc.rest)[1], 1.0, 1e-14);
+  // `info` never calls a sheet closed (issue 9).
+  EXPECT_THAT(formatQuality(measureQuality(cc)), HasSubstr("closed           no: a sheet (no cells)"));
 }
 
 // Two unit cubes side by side, x in [0,1] (label 10) and [1,2] (label 20); vertices 8..11 at x=2.
@@ -511,6 +514,25 @@ TEST(PlyErrors, NotANumberNotAnIntegerNotFinite) {
               AllOf(HasSubstr("line 12"), HasSubstr("coordinate y")));
   EXPECT_THAT(plyError(replaceLine(kTriangle, 10, "0 0 0 0")),
               AllOf(HasSubstr("line 10"), HasSubstr("more than element 'vertex' declares")));
+}
+
+TEST(PlyErrors, AbsurdCoordinatesAreRefused) {
+  // Issue 9: coordinates near 1e308 gave volume -nan and "closed yes".
+  EXPECT_THAT(plyError(replaceLine(kTriangle, 11, "1e308 0 0")),
+              AllOf(HasSubstr("line 11"), HasSubstr("coordinate x is 1e+308 µm (at most 1e+06 µm")));
+  EXPECT_THAT(plyError(replaceLine(kTriangle, 12, "0 0 -2e6")),
+              AllOf(HasSubstr("line 12"), HasSubstr("coordinate z")));
+}
+
+TEST(PlyErrors, ClosedSurfaceWithAFlippedFaceNamesTheFaces) {
+  // Issue 9: one face of the cube wound the other way made the file a 0-cell "sheet".
+  ASSERT_NO_THROW(readString(header(8, 6, "") + kCubeVertices + kCubeQuads));
+  // The cube's quads with the first one ("4 0 3 2 1") reversed.
+  const std::string quads = std::string(kCubeQuads).replace(0, 9, "4 1 2 3 0");
+  const std::string text = header(8, 6, "") + kCubeVertices + quads;
+  const std::string message = plyError(text);
+  EXPECT_THAT(message, HasSubstr("the surface is closed but its faces are not wound consistently"));
+  EXPECT_THAT(message, HasSubstr("4 edge(s) run the same way in both of their faces (faces 0 and"));
 }
 
 TEST(PlyErrors, ValueOutOfItsTypesRange) {
