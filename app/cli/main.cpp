@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <filesystem>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -19,6 +21,7 @@
 #include "experiment/Experiment.h"
 #include "experiment/Indentation.h"
 #include "experiment/Stress.h"
+#include "io/AtomicFile.h"
 #include "io/Centroids.h"
 #include "io/CurveCsv.h"
 #include "io/Paths.h"
@@ -36,6 +39,33 @@ using namespace tp;
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Outputs are checked before any work: never an input (a --csv naming the tissue would replace
+// it), never two outputs on one file, and each writable (an existing read-only file is kept).
+void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+  };
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].empty()) continue;
+    for (const auto& in : inputs)
+      if (!in.empty() && same(outputs[i], in))
+        throw UsageError("the output '" + outputs[i] + "' is the input file '" + in +
+                         "': choose another name (it would be overwritten)");
+    for (size_t j = 0; j < i; ++j)
+      if (!outputs[j].empty() && same(outputs[i], outputs[j]))
+        throw UsageError("two outputs are the same file: '" + outputs[j] + "' and '" +
+                         outputs[i] + "'");
+    try {
+      checkWritable(outputs[i]);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+  }
+}
 
 Vec3 parseVec3(const std::string& text, const std::string& option) {
   std::stringstream ss(text);
@@ -150,6 +180,7 @@ std::string describeError(const MeshError& e, const ExperimentSettings& s) {
 int runIndent(const IndentArgs& a) {
   if (a.depth && a.force) throw UsageError("give --depth or --force, not both");
   const std::string meshPath = a.mesh.empty() ? defaultTissuePath() : a.mesh;
+  checkOutputs({a.csv, a.vtu}, {meshPath});
   const ExperimentSettings settings = experimentSettings(a);
   auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
   Experiment experiment(cc, settings);
@@ -205,11 +236,18 @@ int runIndent(const IndentArgs& a) {
       std::printf("%10.5f %12.6g %6d %10.2e %s%s\n", p.depth, p.force, p.iterations, p.residual,
                   p.converged ? "yes" : "NO", p.unloading ? "  (unloading)" : "");
   }
-  if (!a.csv.empty()) writeCurveCsv(a.csv, r.curve, comments);
+  // The CSV and the VTU of one run are written all or nothing.
+  std::vector<std::pair<std::string, std::function<void(std::ostream&)>>> outputs;
+  if (!a.csv.empty())
+    outputs.emplace_back(a.csv, [&](std::ostream& o) { o << curveCsv(r.curve, comments); });
+  StateFields fields;
   if (!a.vtu.empty()) {
-    const StateFields f = stateFields(*site.model, ind.state(), ind.turgidState());
-    writeVtu(a.vtu, *site.complex, ind.state(), f.points, f.triangles);
+    fields = stateFields(*site.model, ind.state(), ind.turgidState());
+    outputs.emplace_back(a.vtu, [&](std::ostream& o) {
+      writeVtu(o, *site.complex, ind.state(), fields.points, fields.triangles);
+    });
   }
+  writeFilesAtomically(outputs);
   if (!a.quiet && r.complete) {
     const double Eapp = hertzApparentModulus(r.curve, settings.indentation.probeRadius, mat.poissonRatio);
     std::printf("# secant stiffness %.6g uN/um, Hertz apparent modulus %.6g MPa\n",
@@ -255,6 +293,7 @@ struct BuildArgs {
 
 int runBuild(const BuildArgs& b) {
   if (b.out.empty()) throw UsageError("--out FILE.ply is required");
+  checkOutputs({b.out}, {b.centroids});
   CellComplex cc;
   if (b.generate) {
     MeristemParams prm;

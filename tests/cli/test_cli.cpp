@@ -212,6 +212,36 @@ TEST(Cli, OptionsAreCheckedUpFrontWithTheirRange) {
   EXPECT_THAT(r.output, HasSubstr("is on the clamped base of the tissue"));
 }
 
+TEST(Cli, OutputsNeverReplaceInputsOrReadOnlyFiles) {
+  // Issue 9: --csv could name the input mesh and overwrite it, a read-only result was replaced;
+  // now both are refused before any work (exit 2), and nothing is touched.
+  const std::string mesh = smallTissue();
+  const auto before = std::filesystem::file_size(mesh);
+  CliRun r = cli("indent --mesh " + mesh + " --csv " + mesh);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("the output '" + mesh + "' is the input file"));
+  EXPECT_EQ(std::filesystem::file_size(mesh), before);
+  const std::string same = tmp("same.out");
+  r = cli("indent --mesh " + mesh + " --csv " + same + " --vtu " + same);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("two outputs are the same file"));
+  const std::string locked = tmp("locked.csv");
+  std::ofstream(locked) << "kept\n";
+  std::filesystem::permissions(locked, std::filesystem::perms::owner_read);
+  r = cli("indent --mesh " + mesh + " --depth 0.05 --steps 1 --refine 0 --csv " + locked);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("the file is read-only"));
+  std::ifstream in(locked);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "kept");
+  const std::string table = tmp("centroids.csv");
+  std::ofstream(table) << "label,x,y,z\n1,0,0,0\n";
+  r = cli("build --centroids " + table + " --out " + table);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("is the input file"));
+}
+
 TEST(Cli, InfoAndBuildFromCentroids) {
   CliRun r = cli("info " + smallTissue());
   EXPECT_EQ(r.status, 0) << r.output;
