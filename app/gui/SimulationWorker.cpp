@@ -28,6 +28,7 @@ struct SimulationWorker::State {
   int autoLevel = MeshSettings{}.level;  // the level the automatic mesh uses now
   int generation = 0;
   int preparation = 0;
+  int depthSerial = 0;     // drag equilibria solved so far (an estimate waits for a pause)
   double liveDepth = 0;    // deepest equilibrium of the current drag (µm)
   double liveEstimated = -1;  // the depth its error was last estimated at
   std::string meshStatus;
@@ -149,8 +150,12 @@ void SimulationWorker::enqueue(Request r) {
     } else {
       queue_.push_back(std::move(r));
     }
-    // The task in hand gives way if this request may stop it.
-    if (interruptibleBy_ & (1 << queue_.back().index())) stop_ = true;
+    // The task in hand gives way if this request may stop it (an interruption, not a Cancel:
+    // the next task must not inherit it).
+    if (interruptibleBy_ & (1 << queue_.back().index())) {
+      stop_ = true;
+      interrupted_ = true;
+    }
     post = !scheduled_;
     scheduled_ = true;
   }
@@ -171,8 +176,10 @@ void SimulationWorker::processNext() {
                          : std::holds_alternative<EstimateLive>(*r) ? kAnything
                                                                     : 0;
       // A Cancel of a run not started yet still counts (requestRun cleared the flag before);
-      // anything else starts afresh.
-      if (!std::holds_alternative<Run>(*r)) stop_ = false;
+      // anything else starts afresh, and so does a run after an interrupted task (an error
+      // estimate interrupted by this very run request had set the flag after requestRun).
+      if (!std::holds_alternative<Run>(*r) || interrupted_) stop_ = false;
+      interrupted_ = false;
     }
   }
   if (r && !stopping_) {
@@ -338,12 +345,17 @@ void SimulationWorker::handle(const Depth& r) {
   snap.force = pt.force;
   snap.status = describePoint(pt);
   emit snapshotReady(snap);
-  // When the drag rests, estimate the error of its deepest point.
+  // When the drag rests (no other depth solved for kEstimateDelayMs), estimate the error of
+  // its deepest point. An empty queue is not enough: the view sends the next depth only when
+  // this equilibrium is back, so during a drag the queue is empty most of the time, and an
+  // estimate started then (a finer mesh, seconds) would hold up every drag step.
   const int preparation = s_->preparation;
-  QTimer::singleShot(kEstimateDelayMs, this, [this, preparation] {
+  const int serial = ++s_->depthSerial;
+  QTimer::singleShot(kEstimateDelayMs, this, [this, preparation, serial] {
+    if (serial != s_->depthSerial) return;  // still dragging: the last depth schedules it again
     {
       std::lock_guard lock(mutex_);
-      if (!queue_.empty()) return;  // still dragging: the last depth schedules it again
+      if (!queue_.empty()) return;
     }
     enqueue(EstimateLive{preparation});
   });

@@ -58,7 +58,11 @@ class SimulationWorker : public QObject {
   /// Writes the current state with its stress fields as VTU.
   void requestExportVtu(const QString& path);
   /// Stops a running curve (within one Newton iteration).
-  void cancel() { stop_ = true; }
+  void cancel() {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+    interrupted_ = false;  // a Cancel, not an interruption: a run about to start still sees it
+  }
   /// Drops every waiting request and stops what runs; used before the thread quits.
   void stop();
 
@@ -124,6 +128,7 @@ class SimulationWorker : public QObject {
   int interruptibleBy_ = 0;        // what may stop the task in hand (bits of request kinds)
   std::atomic<bool> stop_{false};  // the task in hand stops at its next Newton iteration
   std::atomic<bool> stopping_{false};
+  bool interrupted_ = false;  // stop_ was set to interrupt the task in hand (guarded by mutex_)
 
   // Owned by the worker's thread only.
   struct State;
