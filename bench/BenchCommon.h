@@ -1,6 +1,7 @@
 #pragma once
-// Shared set-up of the benchmarks: the shipped default meristem, refined at the probe like
-// `tissueprobe-cli indent --refine L`, with the default material and a turgid, placed probe.
+// Shared set-up of the benchmarks: the shipped default meristem at rest under its turgor, and the
+// site at its top prepared on a mesh level exactly as `tissueprobe-cli indent` and the
+// application prepare it (core/experiment/Experiment.h), with the default parameters.
 
 #include <algorithm>
 #include <chrono>
@@ -8,31 +9,27 @@
 #include <string>
 #include <vector>
 
-#include "experiment/Indentation.h"
+#include "experiment/Experiment.h"
 
 namespace tp::bench {
 
-/// The default parameters of the CLI (E = 100 MPa, ν = 0.49, h = 0.2 µm, p = 0.8 MPa, probe
-/// radius 1 µm, hinge bending).
-Material defaultMaterial();
-constexpr double kPressure = 0.8;
-constexpr double kProbeRadius = 1.0;
+/// The shipped default meristem (cached).
+std::shared_ptr<const CellComplex> defaultMeristem();
 
-/// Cube root of the mean cell volume (µm): "a cell size".
-double cellSize(const CellComplex& cc);
+/// The default settings of every front end (E = 100 MPa, ν = 0.49, h = 0.2 µm, p = 0.8 MPa,
+/// probe radius 1 µm, hinge bending), with the given schedule and solver.
+ExperimentSettings defaultSettings(IndentationSettings schedule = {}, SolverOptions solver = {});
 
-/// The default tissue refined `level` times around the top of the tissue (radius: the larger of
-/// three probe radii and one cell size). Cached.
-std::shared_ptr<const CellComplex> refinedMeristem(int level);
-
-/// A prepared indentation (turgid state solved, probe placed at the top) on `cc`.
+/// A site prepared on a mesh level: the experiment (its rest state is solved once) and the site.
 struct Setup {
-  std::shared_ptr<const CellComplex> cc;
-  std::unique_ptr<Model> model;
-  std::unique_ptr<Indentation> indentation;
+  std::unique_ptr<Experiment> experiment;
+  std::unique_ptr<PreparedSite> site;
+  Indentation& indentation() const { return *site->indentation; }
+  const Model& model() const { return *site->model; }
 };
-Setup prepare(std::shared_ptr<const CellComplex> cc, SolverOptions options = {},
-              IndentationSettings settings = {});
+/// `level` 0 is the tissue as loaded; the default automatic mesh starts at level 3.
+Setup prepare(int level, ExperimentSettings settings = defaultSettings(),
+              std::shared_ptr<const CellComplex> tissue = defaultMeristem());
 
 /// Times equilibria at successive depths (from `start`, each `step` deeper, warm-started), one per
 /// call of `next`, and returns the median (s) when `next` says stop. Fails if a step does not

@@ -1,20 +1,28 @@
-// Speed of the pieces of an indentation on the shipped default meristem, unrefined and refined at
-// the probe to levels 1–3, and of the published method (implicit Euler + CG) on the same curve.
+// Speed of an indentation on the shipped default meristem, as the CLI and the application run
+// it (core/experiment/Experiment.h): picking a site (refinement, rest state, first contact), the
+// pieces of a Newton iteration, warm-started equilibria, whole 50-step curves to 0.5 µm at the
+// tissue's own mesh (level 0) and at the converged default (levels 3 and 4), and the published
+// method (implicit Euler + CG) on the same curve and mesh.
 // Run: build/bin/bench_indentation [--benchmark_filter=...]; see bench/README.md.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <vector>
 
 #include "BenchCommon.h"
+#include "io/Centroids.h"
 #include "solver/CholmodSolver.h"
 #include "solver/Newton.h"
+#include "tissue/RealTissue.h"
 
 using namespace tp;
 using namespace tp::bench;
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
 
 void addSizeCounters(benchmark::State& state, const Model& m) {
   state.counters["vertices"] = m.complex().vertexCount();
@@ -22,84 +30,107 @@ void addSizeCounters(benchmark::State& state, const Model& m) {
   state.counters["unknowns"] = m.dofs().freeCount();
 }
 
+// Picking a site, as the application does once the tissue is loaded (its rest state under turgor
+// solved then): refinement around the site, the refined rest state, first contact. Sites on a
+// ring around the top, a new one each time.
+void pickSites(benchmark::State& state, std::shared_ptr<const CellComplex> tissue) {
+  ExperimentSettings settings = defaultSettings();
+  Experiment e(tissue, settings);
+  e.prepareBase();
+  const Vec3 top = e.restSite();
+  int k = 0, vertices = 0;
+  double refine = 0, rest = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const double angle = 0.7 * k++;
+    settings.indentation.restSite = top + Vec3(6 * std::cos(angle), 6 * std::sin(angle), 0);
+    e.setSettings(settings);
+    state.ResumeTiming();
+    const auto site = e.prepareSite(settings.mesh.level);
+    state.PauseTiming();
+    vertices = site->complex->vertexCount();
+    refine += site->seconds;
+    rest += site->rest.iterations;
+    state.ResumeTiming();
+  }
+  state.counters["vertices"] = vertices;
+  state.counters["rest_iterations"] = rest / state.iterations();
+  state.counters["level"] = settings.mesh.level;
+}
+
+void BM_PickSite(benchmark::State& state) { pickSites(state, defaultMeristem()); }
+
+// The same on the real flower of ../shared/data (1308 cells built from its centroids).
+void BM_PickSiteRealFlower(benchmark::State& state) {
+  static std::shared_ptr<const CellComplex> flower;
+  if (!flower) {
+    const std::string path =
+        std::string(TP_SHARED_DATA_DIR) + "/refahi2021_flower_stage4/cells.csv";
+    try {
+      const CentroidTable table = readCentroids(path, CentroidColumns::parse("label,x,y,z"));
+      flower = std::make_shared<const CellComplex>(tissueFromCentroids(table, {}));
+    } catch (const std::exception& e) {
+      state.SkipWithError(("no real flower: " + std::string(e.what())).c_str());
+      return;
+    }
+  }
+  pickSites(state, flower);
+}
+
 // Gradient and Hessian of the whole tissue at the turgid state.
 void BM_Assembly(benchmark::State& state) {
-  Setup s = prepare(refinedMeristem(static_cast<int>(state.range(0))));
+  Setup s = prepare(static_cast<int>(state.range(0)));
   Evaluation ev;
   for (auto _ : state) {
-    s.model->evaluate(s.indentation->turgidState(), ev, true);
+    s.model().evaluate(s.indentation().turgidState(), ev, true);
     benchmark::DoNotOptimize(ev.hessian.data());
   }
-  addSizeCounters(state, *s.model);
+  addSizeCounters(state, s.model());
 }
 
 // One numeric CHOLMOD factorisation of that tangent (symbolic analysis done once, outside).
 void BM_Factorization(benchmark::State& state) {
-  Setup s = prepare(refinedMeristem(static_cast<int>(state.range(0))));
+  Setup s = prepare(static_cast<int>(state.range(0)));
   Evaluation ev;
-  s.model->evaluate(s.indentation->turgidState(), ev, true);
+  s.model().evaluate(s.indentation().turgidState(), ev, true);
   CholmodSolver chol;
-  chol.analyze(s.model->pattern());
+  chol.analyze(s.model().pattern());
   for (auto _ : state) {
     const auto st = chol.factorize(ev.hessian, 0.0);
     if (st != CholmodSolver::Status::Ok) state.SkipWithError("tangent not positive definite");
   }
-  addSizeCounters(state, *s.model);
+  addSizeCounters(state, s.model());
   state.counters["factor_nonzeros"] = chol.factorNonzeros();
 }
 
-// One full Newton iteration: assembly, factorisation, solve, one energy evaluation.
-void BM_NewtonIteration(benchmark::State& state) {
-  Setup s = prepare(refinedMeristem(static_cast<int>(state.range(0))));
-  const Points& x = s.indentation->turgidState();
-  Evaluation ev;
-  CholmodSolver chol;
-  chol.analyze(s.model->pattern());
-  const auto& freeDofs = s.model->dofs().freeDofs();
-  Eigen::VectorXd g(freeDofs.size()), dx;
-  for (auto _ : state) {
-    s.model->evaluate(x, ev, true);
-    for (size_t i = 0; i < freeDofs.size(); ++i) g[i] = ev.gradient[freeDofs[i]];
-    chol.factorize(ev.hessian, 0.0);
-    chol.solve(g, dx);
-    benchmark::DoNotOptimize(s.model->energy(x));
-  }
-  addSizeCounters(state, *s.model);
-}
-
-// One equilibrium after a depth step of 1 % of a cell size, warm-started from the previous one
-// (from 5 % of a cell size on, each step 1 % deeper), with the median step time compared with one
-// numeric factorisation of the same tangent measured in the same run.
+// One equilibrium after a depth step of 0.01 µm, warm-started from the previous one (from
+// 0.05 µm on, each step 0.01 µm deeper: what a drag asks), with the median step compared with
+// one numeric factorisation of the same tangent measured in the same run.
 void BM_EquilibriumStep(benchmark::State& state) {
-  auto cc = refinedMeristem(static_cast<int>(state.range(0)));
-  Setup s = prepare(cc);
-  const double cell = cellSize(*refinedMeristem(0));
+  Setup s = prepare(static_cast<int>(state.range(0)));
   std::string error;
-  const double median = medianStepSeconds(*s.indentation, 0.05 * cell, 0.01 * cell,
+  const double median = medianStepSeconds(s.indentation(), 0.05, 0.01,
                                           [&] { return state.KeepRunning(); }, error);
   if (!error.empty()) state.SkipWithError(error.c_str());
-  auto& solver = dynamic_cast<StaticSolver&>(s.indentation->solver());
+  auto& solver = dynamic_cast<StaticSolver&>(s.indentation().solver());
   std::vector<double> factor;
   for (int k = 0; k < 5; ++k) factor.push_back(solver.timeFactorization());
   std::sort(factor.begin(), factor.end());
   const double f = factor[factor.size() / 2];
-  addSizeCounters(state, *s.model);
+  addSizeCounters(state, s.model());
   state.counters["median_step_ms"] = 1e3 * median;
   state.counters["factorization_ms"] = 1e3 * f;
   state.counters["step_over_factorization"] = median / f;
 }
 
-// A whole 50-step loading curve to a depth of 10 % of a cell size (turgid state and placement
-// excluded: they are solved before the clock starts). `predictor`: each step starts from the
-// polynomial through the last equilibria (ours) or from the last equilibrium with the probe moved
-// (the published method).
+// A whole 50-step loading curve to 0.5 µm (the site prepared before the clock starts).
+// `predictor`: each step starts from the polynomial through the last equilibria (ours) or from
+// the last equilibrium with the probe moved (the published method).
 void curve(benchmark::State& state, SolverKind kind, bool predictor) {
-  auto cc = refinedMeristem(static_cast<int>(state.range(0)));
-  const double cell = cellSize(*refinedMeristem(0));
-  IndentationSettings settings;
-  settings.maxDepth = 0.1 * cell;
-  settings.steps = 50;
-  settings.predictor = predictor;
+  IndentationSettings schedule;
+  schedule.maxDepth = 0.5;
+  schedule.steps = 50;
+  schedule.predictor = predictor;
   SolverOptions options;
   options.kind = kind;
   double force = 0;
@@ -107,14 +138,14 @@ void curve(benchmark::State& state, SolverKind kind, bool predictor) {
   SolverTotals spent;
   for (auto _ : state) {
     state.PauseTiming();
-    Setup s = prepare(cc, options, settings);
-    const SolverTotals before = s.indentation->solver().totals();
+    Setup s = prepare(static_cast<int>(state.range(0)), defaultSettings(schedule, options));
+    const SolverTotals before = s.indentation().solver().totals();
     state.ResumeTiming();
-    const auto points = s.indentation->run();
+    const auto points = s.indentation().run();
     state.PauseTiming();
-    if (!points.back().converged) state.SkipWithError(s.indentation->lastMessage().c_str());
+    if (!points.back().converged) state.SkipWithError(s.indentation().lastMessage().c_str());
     force = points.back().force;
-    const SolverTotals after = s.indentation->solver().totals();
+    const SolverTotals after = s.indentation().solver().totals();
     solverIterations = after.iterations - before.iterations;
     cg = after.pcgIterations - before.pcgIterations;
     factorizations = after.factorizations - before.factorizations;
@@ -122,13 +153,14 @@ void curve(benchmark::State& state, SolverKind kind, bool predictor) {
     spent.factorSeconds = after.factorSeconds - before.factorSeconds;
     spent.pcgSeconds = after.pcgSeconds - before.pcgSeconds;
     spent.lineSearchSeconds = after.lineSearchSeconds - before.lineSearchSeconds;
+    addSizeCounters(state, s.model());
     state.ResumeTiming();
   }
   state.counters["final_force_uN"] = force;
   state.counters["iterations"] = solverIterations;
   state.counters["cg_iterations"] = cg;
   state.counters["factorizations"] = factorizations;
-  state.counters["depth_um"] = settings.maxDepth;
+  state.counters["depth_um"] = schedule.maxDepth;
   state.counters["assembly_s"] = spent.assemblySeconds;
   state.counters["factorization_s"] = spent.factorSeconds;
   state.counters["cg_s"] = spent.pcgSeconds;
@@ -151,17 +183,15 @@ void BM_ReferenceCurveWithPredictor(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Assembly)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Factorization)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NewtonIteration)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_EquilibriumStep)->DenseRange(0, 3)->Iterations(21)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_LoadingCurve)->DenseRange(0, 3)->Iterations(1)->Unit(benchmark::kSecond);
-// The reference takes minutes per curve: levels 0 and 1 by default, all with TP_BENCH_ALL=1.
-BENCHMARK(BM_ReferenceCurve)
-    ->DenseRange(0, std::getenv("TP_BENCH_ALL") ? 3 : 1)
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
-BENCHMARK(BM_LoadingCurveNoPredictor)->Arg(0)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_PickSite)->Iterations(5)->Unit(benchmark::kSecond);
+BENCHMARK(BM_PickSiteRealFlower)->Iterations(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_Assembly)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Factorization)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EquilibriumStep)->Arg(0)->Arg(3)->Arg(4)->Iterations(21)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LoadingCurve)->Arg(0)->Arg(3)->Arg(4)->Iterations(1)->Unit(benchmark::kSecond);
+// The reference takes minutes per curve: level 0 and the default level 3; TP_BENCH_ALL=1 adds 4.
+BENCHMARK(BM_ReferenceCurve)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_LoadingCurveNoPredictor)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(BM_ReferenceCurveWithPredictor)->Arg(0)->Iterations(1)->Unit(benchmark::kSecond);
 
 BENCHMARK_MAIN();

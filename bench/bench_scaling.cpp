@@ -22,18 +22,18 @@ namespace {
 
 void BM_EquilibriumScaling(benchmark::State& state) {
   const int level = static_cast<int>(state.range(0));
-  const CellComplex& base = *refinedMeristem(0);
+  const CellComplex& base = *defaultMeristem();
   const double inf = std::numeric_limits<double>::infinity();
   auto cc = std::make_shared<const CellComplex>(
       level == 0 ? base : refineNear(base, Vec3::Zero(), inf, level));
-  Setup s = prepare(cc);
-  const double cell = cellSize(base);
+  Setup s = prepare(0, defaultSettings(), cc);  // the globally refined copy as the tissue
+  const double cell = meanCellSize(base);
   std::string error;
-  const double median = medianStepSeconds(*s.indentation, 0.05 * cell, 0.01 * cell,
+  const double median = medianStepSeconds(s.indentation(), 0.05 * cell, 0.01 * cell,
                                           [&] { return state.KeepRunning(); }, error);
   if (!error.empty()) state.SkipWithError(error.c_str());
-  auto& solver = dynamic_cast<StaticSolver&>(s.indentation->solver());
-  state.counters["unknowns"] = s.model->dofs().freeCount();
+  auto& solver = dynamic_cast<StaticSolver&>(s.indentation().solver());
+  state.counters["unknowns"] = s.model().dofs().freeCount();
   state.counters["median_step_s"] = median;
   state.counters["factorization_s"] = solver.timeFactorization();
   state.counters["peak_memory_MB"] = peakMemoryMB();

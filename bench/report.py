@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Markdown tables (and the targets of issue 5) from the JSON output of the two benchmarks.
+"""Markdown tables (and the targets of issues 5 and 8) from the JSON output of the two benchmarks.
 
 usage: bench/report.py indentation.json scaling.json > tables.md
 (see bench/README.md for the commands that make the JSON files)
@@ -18,7 +18,7 @@ def load(path):
         if b.get("run_type", "iteration") != "iteration":
             continue
         parts = b["name"].split("/")
-        runs[(parts[0], int(parts[1]))] = b
+        runs[(parts[0], int(parts[1]) if len(parts) > 1 and parts[1].isdigit() else -1)] = b
     return data.get("context", {}), runs
 
 
@@ -41,21 +41,27 @@ def main():
 
     print(f"Measured {context.get('date', '?')} on {context.get('host_name', '?')}: "
           f"{context.get('num_cpus', '?')} CPUs at {context.get('mhz_per_cpu', '?')} MHz.\n")
-    print("| refinement level | unknowns | assembly (ms) | factorisation (ms) | Newton iteration (ms) "
-          "| equilibrium step (ms) | step / factorisation | 50-step curve (s) | reference curve (s) "
-          "| speed-up |")
+    for fam, what in (("BM_PickSite", "default meristem"), ("BM_PickSiteRealFlower", "real flower")):
+        b = get(fam, -1)
+        if b:
+            print(f"Picking a site on the {what} (refinement to level {int(b['level'])}, rest state, "
+                  f"first contact): {seconds(b):.2f} s ({int(b['vertices'])} vertices, "
+                  f"{b['rest_iterations']:.1f} Newton iterations for the rest state).\n")
+    print("| mesh level | unknowns | assembly (ms) | factorisation (ms) "
+          "| equilibrium step (ms) | step / factorisation | 50-step curve (s) | × level 0 "
+          "| reference curve (s) | speed-up |")
     print("|---|---|---|---|---|---|---|---|---|---|")
+    c0 = get("BM_LoadingCurve", 0)
     for lvl in levels:
-        a, f, n = get("BM_Assembly", lvl), get("BM_Factorization", lvl), get("BM_NewtonIteration", lvl)
+        a, f = get("BM_Assembly", lvl), get("BM_Factorization", lvl)
         st, c, r = get("BM_EquilibriumStep", lvl), get("BM_LoadingCurve", lvl), get("BM_ReferenceCurve", lvl)
-        cells = [str(lvl), f"{int(a['unknowns'])}", f"{1e3 * seconds(a):.1f}", f"{1e3 * seconds(f):.1f}",
-                 f"{1e3 * seconds(n):.1f}"]
+        cells = [str(lvl), f"{int(a['unknowns'])}", f"{1e3 * seconds(a):.1f}", f"{1e3 * seconds(f):.1f}"]
         cells += [f"{st['median_step_ms']:.1f}", f"{st['step_over_factorization']:.2f}"] if st else ["", ""]
-        cells += [f"{seconds(c):.2f}"] if c else [""]
+        cells += [f"{seconds(c):.2f}", f"{seconds(c) / seconds(c0):.1f}"] if c and c0 else ["", ""]
         cells += [f"{seconds(r):.1f}", f"{seconds(r) / seconds(c):.0f}×"] if r and c else ["", ""]
         print("| " + " | ".join(cells) + " |")
 
-    c0, c0n = get("BM_LoadingCurve", 0), get("BM_LoadingCurveNoPredictor", 0)
+    c0n = get("BM_LoadingCurveNoPredictor", 0)
     r0, r0p = get("BM_ReferenceCurve", 0), get("BM_ReferenceCurveWithPredictor", 0)
     if c0 and c0n and r0 and r0p:
         print("\nThe unrefined curve, each solver with and without the predictor (each step started "
