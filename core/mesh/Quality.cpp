@@ -85,9 +85,10 @@ std::string formatQuality(const MeshQuality& q) {
                 "edge length      mean %.4g um, min %.4g um\n"
                 "triangle angles  min %.2f deg, max %.2f deg\n",
                 q.cells, q.walls, q.vertices, q.clampedVertices, q.triangles, q.outerTriangles,
-                q.validity.ok() ? (q.validity.openCells ? "yes (open cells clamped at the rim)"
-                                                        : "yes, every cell")
-                                : "NO",
+                q.cells == 0      ? "no: a sheet (no cells)"
+                : q.validity.ok() ? (q.validity.openCells ? "yes (open cells clamped at the rim)"
+                                                          : "yes, every cell")
+                                  : "NO",
                 q.volume, q.outerArea, q.bboxMin.x(), q.bboxMax.x(), q.bboxMin.y(),
                 q.bboxMax.y(), q.bboxMin.z(), q.bboxMax.z(), q.meanEdge, q.minEdge, q.minAngleDeg,
                 q.maxAngleDeg);
