@@ -47,6 +47,9 @@ TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
 }
 
 TissueView::~TissueView() {
+  // QOpenGLWidget's destructor destroys the context after this one has run, and the context's
+  // aboutToBeDestroyed would then call releaseGL on a half-destroyed TissueView (UBSan, issue 9).
+  if (QOpenGLContext* c = context()) disconnect(c, nullptr, this, nullptr);
   releaseGL();
 }
 

@@ -76,9 +76,13 @@ void CholmodSolver::analyze(const SparsePattern& pattern) {
   const size_t n = pattern.n;
   m.A = cholmod_allocate_sparse(n, n, pattern.nnz(), 1, 1, 1, CHOLMOD_REAL, &m.common);
   if (!m.A) throw std::runtime_error("CHOLMOD: cannot allocate the matrix");
+  // memcpy from or to a null pointer is undefined even for 0 bytes (an empty pattern: every
+  // vertex clamped), so only non-empty arrays are copied.
   std::memcpy(m.A->p, pattern.colPtr.data(), sizeof(int) * (n + 1));
-  std::memcpy(m.A->i, pattern.rowIdx.data(), sizeof(int) * pattern.nnz());
-  std::memset(m.A->x, 0, sizeof(double) * pattern.nnz());
+  if (pattern.nnz() > 0) {
+    std::memcpy(m.A->i, pattern.rowIdx.data(), sizeof(int) * pattern.nnz());
+    std::memset(m.A->x, 0, sizeof(double) * pattern.nnz());
+  }
   m.L = cholmod_analyze(m.A, &m.common);
   if (!m.L || m.common.status < CHOLMOD_OK)
     throw std::runtime_error("CHOLMOD: symbolic analysis failed (status " +
@@ -96,7 +100,7 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
       message_ = "tangent matrix has non-finite entries";
       return Status::NonFinite;
     }
-  std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
+  if (!values.empty()) std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
   double beta[2] = {shift, 0.0};
   setBlasThreads(hardwareThreads());
   const int ok = cholmod_factorize_p(m.A, beta, nullptr, 0, m.L, &m.common);
@@ -119,12 +123,12 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!m.factored) throw std::logic_error("CholmodSolver::solve without a factorisation");
   const size_t n = m.L->n;
   if (static_cast<size_t>(b.size()) != n) throw std::invalid_argument("CholmodSolver: rhs size");
-  std::memcpy(m.B->x, b.data(), sizeof(double) * n);
+  if (n > 0) std::memcpy(m.B->x, b.data(), sizeof(double) * n);
   setBlasThreads(1);
   if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common))
     throw std::runtime_error("CHOLMOD: solve failed");
   x.resize(n);
-  std::memcpy(x.data(), m.X->x, sizeof(double) * n);
+  if (n > 0) std::memcpy(x.data(), m.X->x, sizeof(double) * n);
 }
 
 void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x) {

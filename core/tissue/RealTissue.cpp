@@ -37,6 +37,12 @@ Surface alphaSurface(const std::vector<Vec3>& pts, double alphaFactor, double* a
   for (size_t i = 0; i < pts.size(); ++i)
     input.emplace_back(K::Point_3(pts[i].x(), pts[i].y(), pts[i].z()), static_cast<int>(i));
   Delaunay dt(input.begin(), input.end());
+  // Coplanar or collinear centroids have no 3D triangulation, and CGAL's optimal-alpha search
+  // on one is undefined behaviour (UBSan, issue 9): refuse them by name first.
+  if (dt.dimension() < 3)
+    throw std::invalid_argument("the centroids lie in a " +
+                                std::string(dt.dimension() == 2 ? "plane" : "line or point") +
+                                ": a 3D tissue needs centroids spread in all three directions");
   AlphaShape as(dt, 0, AlphaShape::REGULARIZED);
   const auto opt = as.find_optimal_alpha(1);
   if (opt == as.alpha_end()) throw std::runtime_error("no alpha shape encloses the centroids");

@@ -3,12 +3,14 @@
 // converged point.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
 #include "experiment/Indentation.h"
 #include "mechanics/Contact.h"
+#include "solver/Newton.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
@@ -138,4 +140,19 @@ TEST(ContactKept, TensionFreeMembraneUnderTheProbeApproachesTheCubicLaw) {
   std::printf("  extrapolated to a point probe: %+.2f %% (ratio %.3f per halving)\n", 100 * limit,
               ratio);
   EXPECT_LT(std::abs(limit), 0.03);
+}
+
+TEST(ContactKept, EveryVertexClampedSolvesToNothingWithoutTouchingNullMemory) {
+  // Issue 9 (UBSan): with no free degree of freedom the CHOLMOD set-up copied from a null
+  // pointer. The solve is trivially converged and the state unchanged.
+  auto cc = std::make_shared<CellComplex>(boxTissue(1, 1, 1, 5.0));
+  std::fill(cc->fixed.begin(), cc->fixed.end(), 1);
+  Model m(cc, Material{});
+  m.setUniformPressure(0.5);
+  StaticSolver solver(m);
+  Points x = cc->rest;
+  const SolveReport rep = solver.solve(x);
+  EXPECT_TRUE(rep.converged) << rep.message;
+  EXPECT_EQ(rep.iterations, 0);
+  EXPECT_EQ((x - cc->rest).norm(), 0.0);
 }

@@ -173,3 +173,19 @@ TEST(Centroids, ErrorsNameFileLineAndColumn) {
   EXPECT_THAT(message(testing::TempDir() + "/none.csv", "label,x,y,z"), HasSubstr("cannot open"));
   EXPECT_THROW(CentroidColumns::parse("x,y"), std::invalid_argument);
 }
+
+TEST(RealTissue, CoplanarCentroidsAreRefusedByName) {
+  // Issue 9: CGAL's optimal-alpha search ran on a flat triangulation (undefined behaviour).
+  CentroidTable t;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      t.labels.push_back(6 * i + j);
+      t.points.emplace_back(5.0 * i + 0.3 * j, 5.0 * j, 0.0);
+    }
+  try {
+    tissueFromCentroids(t, RealTissueOptions{});
+    FAIL() << "coplanar centroids were accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("the centroids lie in a plane"));
+  }
+}
