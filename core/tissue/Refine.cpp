@@ -213,6 +213,19 @@ double minAngle(const CellComplex& cc) {
   return best;
 }
 
+// The refiner's tissue after `levels` passes, with the parent of every new vertex, the base
+// triangle of every triangle, and the report.
+RefinedComplex collect(Refiner& r, const CellComplex& cc, int levels) {
+  RefinedComplex out;
+  out.complex = r.result(cc, out.report);
+  out.parents = r.parents(cc.vertexCount());
+  out.baseTriangle = r.origins();
+  out.report.levels = levels;
+  out.report.redTriangles = r.reds;
+  out.report.minAngleDeg = minAngle(out.complex);
+  return out;
+}
+
 }  // namespace
 
 RefinedComplex refineWithin(const CellComplex& cc, const Vec3& center, double radius,
@@ -220,23 +233,13 @@ RefinedComplex refineWithin(const CellComplex& cc, const Vec3& center, double ra
   if (levels < 0) throw std::invalid_argument("refinement level must be >= 0");
   if (!(radius > 0) || !center.allFinite())
     throw std::invalid_argument("refinement needs a positive radius and a finite centre");
-  RefinedComplex out;
-  out.report.levels = levels;
-  if (levels == 0) {
-    out = unrefined(cc);
-    return out;
-  }
+  if (levels == 0) return unrefined(cc);
   Refiner r(cc);
   for (int l = 0; l < levels; ++l)
     r.pass([&](const Vec3& a, const Vec3& b, const Vec3& c, int) {
       return pointTriangleDistance2(center, a, b, c, nullptr, nullptr, nullptr) <= radius * radius;
     });
-  out.complex = r.result(cc, out.report);
-  out.parents = r.parents(cc.vertexCount());
-  out.baseTriangle = r.origins();
-  out.report.redTriangles = r.reds;
-  out.report.minAngleDeg = minAngle(out.complex);
-  return out;
+  return collect(r, cc, levels);
 }
 
 CellComplex refineNear(const CellComplex& cc, const Vec3& center, double radius, int levels,
@@ -268,7 +271,6 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
                                cc.rest.col(tri[2]), nullptr, nullptr, nullptr) <= outer2)
       zone[cc.triangleWall[t]] = 1;
   }
-  RefinedComplex out;
   Refiner r(cc);
   int passes = 0;
   for (; passes < spec.maxPasses; ++passes) {
@@ -283,29 +285,16 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
     });
     if (marked == 0) break;
   }
-  out.complex = r.result(cc, out.report);
-  out.parents = r.parents(cc.vertexCount());
-  out.baseTriangle = r.origins();
-  out.report.levels = passes;
-  out.report.redTriangles = r.reds;
-  out.report.minAngleDeg = minAngle(out.complex);
-  return out;
+  return collect(r, cc, passes);
 }
 
 RefinedComplex refineWalls(const CellComplex& cc, const std::vector<char>& walls, int levels) {
   if (static_cast<int>(walls.size()) != cc.wallCount())
     throw std::invalid_argument("refineWalls: one flag per wall expected");
-  RefinedComplex out;
   Refiner r(cc);
   for (int l = 0; l < levels; ++l)
     r.pass([&](const Vec3&, const Vec3&, const Vec3&, int wall) { return walls[wall] != 0; });
-  out.complex = r.result(cc, out.report);
-  out.parents = r.parents(cc.vertexCount());
-  out.baseTriangle = r.origins();
-  out.report.levels = levels;
-  out.report.redTriangles = r.reds;
-  out.report.minAngleDeg = minAngle(out.complex);
-  return out;
+  return collect(r, cc, levels);
 }
 
 Points prolongate(const Points& coarse, const std::vector<std::array<int, 2>>& parents) {
