@@ -248,6 +248,17 @@ double Indentation::probeForce() const {
   return placement_.axis.dot(solver_->lastEvaluation().probeGradient);
 }
 
+SolveReport Indentation::solveUnderForce(Points& x, double force, double& travel) {
+  ForceControl fc;
+  fc.origin = placement_.contactCenter;
+  fc.axis = placement_.axis;
+  fc.force = force;
+  fc.travel = travel;
+  const SolveReport rep = solver_->solve(x, &fc);
+  travel = fc.travel;
+  return rep;
+}
+
 bool Indentation::solveAt(double target, bool forceControl, int& iterations, double& residual) {
   // Predictor: the polynomial through the last (up to three) equilibria of this control with
   // distinct loads (unloading revisits loads), evaluated at the target (Lagrange), for the state
@@ -306,13 +317,8 @@ bool Indentation::solveAt(double target, bool forceControl, int& iterations, dou
         iterations += at.iterations;
         if (at.converged) x = y;
       }
-      ForceControl fc;
-      fc.origin = placement_.contactCenter;
-      fc.axis = placement_.axis;
-      fc.force = target;
-      fc.travel = travelGuess;
-      rep = solver_->solve(x, &fc);
-      travel = fc.travel;
+      travel = travelGuess;
+      rep = solveUnderForce(x, target, travel);
     } else {
       model_.setProbe({placement_.contactCenter + target * placement_.axis, settings_.probeRadius});
       rep = solver_->solve(x);
@@ -423,14 +429,8 @@ CurvePoint Indentation::solveFrom(double target, bool forceControl, Points guess
   SolveReport rep = solver_->solve(guess);
   int iterations = rep.iterations;
   if (rep.converged && forceControl) {
-    ForceControl fc;
-    fc.origin = placement_.contactCenter;
-    fc.axis = placement_.axis;
-    fc.force = target;
-    fc.travel = travel;
-    rep = solver_->solve(guess, &fc);
+    rep = solveUnderForce(guess, target, travel);
     iterations += rep.iterations;
-    travel = fc.travel;
   }
   if (rep.converged && !forceControl && target > 0 && !(probeForce() > 0)) {
     rep.converged = false;

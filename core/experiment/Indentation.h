@@ -121,6 +121,9 @@ class Indentation {
   EquilibriumSolver& solver() { return *solver_; }
 
  private:
+  // Equilibrium under the probe force `force` (µN) from x, the probe's travel starting at and
+  // returned in `travel` (µm); x and travel are left as given on failure.
+  SolveReport solveUnderForce(Points& x, double force, double& travel);
   bool solveAt(double target, bool forceControl, int& iterations, double& residual);
   /// The tangent response u (3V) of the state x_ to a unit point load along the axis at the
   /// probe's point, and how far that point moves along the axis (µm per µN). False when the
