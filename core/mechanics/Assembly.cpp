@@ -76,6 +76,29 @@ SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
   return p;
 }
 
+SparsePattern buildPatternFromUnknowns(int n, const std::vector<std::span<const int>>& elements) {
+  std::vector<std::vector<int>> upper(n);  // per column, the rows ≤ it
+  for (int c = 0; c < n; ++c) upper[c].push_back(c);
+  for (const auto& u : elements)
+    for (int a : u) {
+      if (a < 0) continue;
+      for (int b : u)
+        if (b >= 0 && a < b) upper[b].push_back(a);
+    }
+  SparsePattern p;
+  p.n = n;
+  p.colPtr.assign(n + 1, 0);
+  for (int c = 0; c < n; ++c) {
+    auto& rows = upper[c];
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    p.rowIdx.insert(p.rowIdx.end(), rows.begin(), rows.end());
+    p.colPtr[c + 1] = static_cast<int>(p.rowIdx.size());
+    std::vector<int>().swap(rows);
+  }
+  return p;
+}
+
 SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
                      std::span<const int> elementVertices)
     : arity_(arity), stride_(9 * arity * arity) {

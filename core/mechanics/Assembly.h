@@ -48,6 +48,10 @@ void symmetricMultiply(const SparsePattern& pattern, const std::vector<double>& 
 SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
                            const std::vector<std::pair<int, std::span<const int>>>& elementSets);
 
+/// The pattern over n unknowns (free components first, then any further unknowns of a term)
+/// of elements given by the lists of their unknowns (−1: a prescribed component, skipped).
+SparsePattern buildPatternFromUnknowns(int n, const std::vector<std::span<const int>>& elements);
+
 /// For every element of one kind (arity N vertices), the value-array position of each local
 /// entry (i, j) of its 3N×3N Hessian, or −1 when the entry is skipped (a fixed component, or the
 /// lower-triangle twin of a stored entry). Every stored entry is hit exactly once per element.

@@ -7,19 +7,29 @@
 namespace tp {
 
 enum class BendingModel {
-  Hinge,   // discrete-shell hinges with rest angles, calibrated to D (default)
+  Koiter,  // Kirchhoff–Love plate energy with the wall's ν, rotation-free triangles (default;
+           // mechanics/PlateBending.h)
+  Hinge,   // discrete-shell hinges with rest angles, calibrated to D (no Poisson coupling)
   Linear,  // Volino & Magnenat-Thalmann 2006 linear bending vector (the published model)
   None,
 };
 
-BendingModel parseBendingModel(const std::string& name);  // "hinge" | "linear" | "none"
+BendingModel parseBendingModel(const std::string& name);  // "koiter" | "hinge" | "linear" | "none"
 std::string toString(BendingModel m);
+
+/// How walls meeting at a junction edge share rotation under Koiter bending
+/// (mechanics/PlateBending.h): hinged (they pivot freely; the epidermis stays one sheet) or rigid
+/// (the angles between them are kept).
+enum class JunctionRule { Hinged, Rigid };
+JunctionRule parseJunctionRule(const std::string& name);  // "hinged" | "rigid"
+std::string toString(JunctionRule r);
 
 struct Material {
   double youngModulus = 100.0;  // E, MPa (the defaults of every front end)
   double poissonRatio = 0.49;  // ν
   double thickness = 0.2;      // h, µm
-  BendingModel bending = BendingModel::Hinge;
+  BendingModel bending = BendingModel::Koiter;
+  JunctionRule junctions = JunctionRule::Hinged;
 
   /// Plane-stress Lamé constants (MPa): μ = E/(2(1+ν)), λ* = Eν/(1−ν²).
   double mu() const { return youngModulus / (2.0 * (1.0 + poissonRatio)); }

@@ -48,6 +48,10 @@ Model::Model(std::shared_ptr<const CellComplex> cc, const Material& material)
     hingeRest_.push_back(hingeRest(X.col(v[0]), X.col(v[1]), X.col(v[2]), X.col(v[3]), D));
     linearRest_.push_back(linearBendingRest(X.col(v[0]), X.col(v[1]), X.col(v[2]), X.col(v[3]), D));
   }
+  if (material_.bending == BendingModel::Koiter) {
+    plate_ = buildPlateBending(c, topo_, D, material_.poissonRatio, material_.junctions);
+    for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
+  }
   for (const auto& r : membraneRest_)
     membraneMagnitude_ += 2.0 * (material_.mu() + material_.lambdaPlaneStress()) * material_.thickness * r.area;
   double sum = 0;
@@ -69,9 +73,60 @@ void Model::setFixedDofs(const std::vector<std::uint8_t>& fixedDof) {
   if (static_cast<int>(fixedDof.size()) != 3 * cc_->vertexCount())
     throw std::invalid_argument("setFixedDofs: expected 3 flags per vertex");
   dofs_ = DofMap(fixedDof);
-  pattern_ = buildPattern(dofs_, cc_->vertexCount(), {{3, triangleVerts_}, {4, hingeVerts_}});
+  if (material_.bending != BendingModel::Koiter) {
+    std::vector<std::pair<int, std::span<const int>>> sets{{3, triangleVerts_}};
+    if (material_.bending != BendingModel::None) sets.emplace_back(4, hingeVerts_);
+    pattern_ = buildPattern(dofs_, cc_->vertexCount(), sets);
+    triangleSlots_ = SlotTable(pattern_, dofs_, 3, triangleVerts_);
+    if (material_.bending != BendingModel::None)
+      hingeSlots_ = SlotTable(pattern_, dofs_, 4, hingeVerts_);
+    return;
+  }
+  // Koiter: the edge unknowns follow the free position components.
+  const int nFree = dofs_.freeCount();
+  const int T = cc_->triangleCount();
+  std::vector<int> triangleUnknowns(9 * T);
+  for (int t = 0; t < T; ++t)
+    for (int i = 0; i < 9; ++i) triangleUnknowns[9 * t + i] = dofs_.index(3 * triangleVerts_[3 * t + i / 3] + i % 3);
+  plateUnknowns_.clear();
+  plateUnknownBegin_.assign(1, 0);
+  for (int t = 0; t < T; ++t) {
+    const auto& el = plate_.elements[t];
+    if (el.refBegin[3] > el.refBegin[0] || el.edgeUnknown[0] >= 0 || el.edgeUnknown[1] >= 0 ||
+        el.edgeUnknown[2] >= 0) {
+      for (int v : el.vertices)
+        for (int k = 0; k < 3; ++k) plateUnknowns_.push_back(dofs_.index(3 * v + k));
+      for (int k = 0; k < 3; ++k)
+        if (el.edgeUnknown[k] >= 0) plateUnknowns_.push_back(nFree + el.edgeUnknown[k]);
+    }
+    plateUnknownBegin_.push_back(static_cast<int>(plateUnknowns_.size()));
+  }
+  std::vector<std::span<const int>> lists;
+  for (int t = 0; t < T; ++t) lists.emplace_back(&triangleUnknowns[9 * t], 9);
+  for (int t = 0; t < T; ++t)
+    if (plateUnknownBegin_[t + 1] > plateUnknownBegin_[t])
+      lists.emplace_back(plateUnknowns_.data() + plateUnknownBegin_[t],
+                         plateUnknownBegin_[t + 1] - plateUnknownBegin_[t]);
+  pattern_ = buildPatternFromUnknowns(nFree + plate_.edgeUnknowns, lists);
   triangleSlots_ = SlotTable(pattern_, dofs_, 3, triangleVerts_);
-  hingeSlots_ = SlotTable(pattern_, dofs_, 4, hingeVerts_);
+  pairSlots_ = SlotTable(pattern_, dofs_, 4, pairVerts_);  // a pair lies inside its elements
+  plateSlots_.clear();
+  plateSlotBegin_.assign(1, 0);
+  for (int t = 0; t < T; ++t) {
+    const int* u = plateUnknowns_.data() + plateUnknownBegin_[t];
+    const int m = plateUnknownBegin_[t + 1] - plateUnknownBegin_[t];
+    for (int i = 0; i < m; ++i)
+      for (int j = i; j < m; ++j) {
+        if (u[i] < 0 || u[j] < 0) {
+          plateSlots_.push_back(-1);
+          continue;
+        }
+        const int pos = pattern_.find(std::min(u[i], u[j]), std::max(u[i], u[j]));
+        if (pos < 0) throw std::logic_error("Koiter element entry missing from the pattern");
+        plateSlots_.push_back(pos);
+      }
+    plateSlotBegin_.push_back(static_cast<int>(plateSlots_.size()));
+  }
 }
 
 void Model::setCellPressures(std::vector<double> pressures) {
@@ -176,7 +231,9 @@ double Model::energy(const Points& x, EnergyParts* parts) const {
                                  lam, h, nullptr, nullptr);
   }
   e.magnitude += membraneMagnitude_;
-  if (material_.bending != BendingModel::None)
+  if (material_.bending == BendingModel::Koiter)
+    e.bending = plateBendingEnergy(plate_, x);
+  else if (material_.bending != BendingModel::None)
     for (size_t k = 0; k < topo_.hinges.size(); ++k) {
       const auto& v = topo_.hinges[k].v;
       e.bending += material_.bending == BendingModel::Hinge
@@ -232,7 +289,15 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
   }
   double membrane = 0, bending = 0;
   const int T = c.triangleCount();
-  const int H = material_.bending == BendingModel::None ? 0 : static_cast<int>(topo_.hinges.size());
+  const bool koiter = material_.bending == BendingModel::Koiter;
+  const int H = material_.bending == BendingModel::None || koiter
+                    ? 0 : static_cast<int>(topo_.hinges.size());
+  const int P = koiter ? static_cast<int>(plate_.pairs.size()) : 0;
+  if (koiter) {
+    pairTheta_.resize(P);
+    pairGrad_.resize(P);
+    plateY_.assign(T, Eigen::Vector3d::Zero());
+  }
 #pragma omp parallel num_threads(threads) reduction(+ : membrane, bending)
   {
     const int tid = omp_get_thread_num();
@@ -270,6 +335,7 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
       scatter<12>(&hingeVerts_[4 * k], hingeSlots_.element(k), g12, withHessian ? &H12 : nullptr,
                   g, v);
     }
+    if (koiter) bending += evaluatePlate(x, g, v, withHessian);
   }
   for (int tid = 1; tid < threads; ++tid) {
     if (threadGrad_[tid].empty()) continue;
@@ -328,6 +394,80 @@ void Model::evaluate(const Points& x, Evaluation& out, bool withHessian) const {
                           std::abs(out.energy.contact);
 }
 
+// Koiter bending in four passes inside the caller's parallel region (every thread calls it):
+// (1) each pair's dihedral angle and its gradient; (2) the edge unknowns that minimise the energy
+// for those angles (one solve with the factorised A, mechanics/PlateBending.h); (3) each element's
+// energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k (y = B Δs; the edge unknowns' part is zero at the
+// minimum) and the matrix Gᵀ B G over its positions and edge unknowns, G = ∂Δs/∂(x, φ); (4) the
+// curvature part, each pair's Σ (coeff · y_k) ∇²θ gathered from the elements that use it.
+// Returns this thread's share of the energy.
+double Model::evaluatePlate(const Points& x, double* g, double* v, bool withHessian) const {
+  const int P = static_cast<int>(plate_.pairs.size());
+#pragma omp for schedule(static)
+  for (int p = 0; p < P; ++p) {
+    const auto& pv = plate_.pairs[p].v;
+    pairTheta_[p] = dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]),
+                                  &pairGrad_[p], nullptr);
+  }
+#pragma omp single
+  platePhi_ = plateEdgeRotations(plate_, pairTheta_);
+  double energy = 0;
+  constexpr int kMax = 3 * kMaxPlateArity + 3;
+  using LocalGrads = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kMax, 3>;
+  const int T = static_cast<int>(plate_.elements.size());
+#pragma omp for schedule(static)
+  for (int t = 0; t < T; ++t) {
+    const int begin = plateUnknownBegin_[t], m = plateUnknownBegin_[t + 1] - begin;
+    if (m == 0) continue;
+    const auto& el = plate_.elements[t];
+    Eigen::Vector3d ds;
+    energy += plateElementEnergy(plate_, t, pairTheta_, platePhi_, &ds);
+    const Eigen::Vector3d y = el.B * ds;
+    plateY_[t] = y;
+    const int mx = 3 * static_cast<int>(el.vertices.size());
+    LocalGrads G = LocalGrads::Zero(m, 3);  // ∂Δs_k/∂(local unknowns)
+    int aux = mx;
+    for (int k = 0; k < 3; ++k) {
+      for (int r = el.refBegin[k]; r < el.refBegin[k + 1]; ++r) {
+        const auto& ref = plate_.refs[r];
+        const Vec12& gp = pairGrad_[ref.pair];
+        for (int i = 0; i < 4; ++i) G.block<3, 1>(3 * ref.local[i], k) += ref.coeff * gp.segment<3>(3 * i);
+      }
+      if (el.edgeUnknown[k] >= 0) G(aux++, k) = el.edgeSign[k];
+    }
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1> ge = G.topRows(mx).lazyProduct(y);
+    for (int i = 0; i < mx; ++i) g[3 * el.vertices[i / 3] + i % 3] += ge[i];
+    if (!withHessian) continue;
+    // G B Gᵀ, upper triangle only, straight into the values (no small-matrix product kernels).
+    LocalGrads GB(m, 3);
+    GB.noalias() = G.lazyProduct(el.B);
+    const int* slots = plateSlots_.data() + plateSlotBegin_[t];
+    int s = 0;
+    for (int i = 0; i < m; ++i)
+      for (int j = i; j < m; ++j, ++s)
+        if (slots[s] >= 0)
+          v[slots[s]] += GB(i, 0) * G(j, 0) + GB(i, 1) * G(j, 1) + GB(i, 2) * G(j, 2);
+  }
+  if (!withHessian) return energy;
+#pragma omp for schedule(static) nowait
+  for (int p = 0; p < P; ++p) {
+    double mu = 0;
+    for (const auto& u : plate_.pairUses[p]) mu += u.coeff * plateY_[u.element](u.edge);
+    if (mu == 0.0) continue;
+    const auto& pv = plate_.pairs[p].v;
+    Vec12 gp;
+    Mat12 Hp;
+    dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]), &gp, &Hp);
+    const int* slots = pairSlots_.element(p);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        const int sl = slots[i * 12 + j];
+        if (sl >= 0) v[sl] += mu * Hp(i, j);
+      }
+  }
+  return energy;
+}
+
 std::vector<MembraneStress> Model::triangleStresses(const Points& x) const {
   const CellComplex& c = *cc_;
   std::vector<MembraneStress> s(c.triangleCount());
@@ -342,6 +482,10 @@ std::vector<MembraneStress> Model::triangleStresses(const Points& x) const {
 std::vector<double> Model::triangleBendingEnergy(const Points& x) const {
   std::vector<double> e(cc_->triangleCount(), 0.0);
   if (material_.bending == BendingModel::None) return e;
+  if (material_.bending == BendingModel::Koiter) {
+    plateBendingEnergy(plate_, x, &e);
+    return e;
+  }
   for (size_t k = 0; k < topo_.hinges.size(); ++k) {
     const auto& hg = topo_.hinges[k];
     const auto& v = hg.v;

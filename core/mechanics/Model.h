@@ -13,6 +13,7 @@
 #include "mechanics/Contact.h"
 #include "mechanics/Material.h"
 #include "mechanics/Membrane.h"
+#include "mechanics/PlateBending.h"
 #include "mesh/CellComplex.h"
 #include "mesh/Topology.h"
 
@@ -63,6 +64,10 @@ class Model {
   /// Clamped position components (3V flags); by default those of the complex's clamped vertices.
   void setFixedDofs(const std::vector<std::uint8_t>& fixedDof);
   const DofMap& dofs() const { return dofs_; }
+  /// The tangent matrix's pattern: the free position components (dofs().freeCount(), in the
+  /// order of dofs().freeDofs()), then the edge unknowns of Koiter bending (eliminated from the
+  /// energy, see mechanics/PlateBending.h). A Newton step solves with the whole matrix, a zero
+  /// right-hand side for the edge unknowns, and keeps the position part.
   const SparsePattern& pattern() const { return pattern_; }
 
   /// Point loads (µN) on vertices: W = −Σ f·x.
@@ -97,7 +102,8 @@ class Model {
 
   /// Membrane stress of every triangle at positions x.
   std::vector<MembraneStress> triangleStresses(const Points& x) const;
-  /// Bending energy per triangle (half of each of its hinges), pJ.
+  /// Bending energy per triangle (pJ): its own plate energy (Koiter), or half of each of its
+  /// hinges (hinge, linear).
   std::vector<double> triangleBendingEnergy(const Points& x) const;
 
   /// Typical edge length of the rest mesh (µm).
@@ -105,6 +111,8 @@ class Model {
 
  private:
   void rebuildPressureLoads();
+  double evaluatePlate(const Points& x, double* grad, double* values, bool withHessian) const;
+  static constexpr int kMaxPlateArity = 9;  // 3 + 6 wings (a wing per edge, two at most)
   template <class Fn>
   void forContactTriangles(const Points& x, Fn&& fn) const;
 
@@ -117,6 +125,18 @@ class Model {
   std::vector<MembraneRest> membraneRest_;
   std::vector<HingeRest> hingeRest_;
   std::vector<LinearBendingRest> linearRest_;
+  PlateBending plate_;  // Koiter bending (empty for the other models)
+  // Koiter elements: each one's unknowns (three per vertex, then its edge unknowns, −1 where
+  // prescribed) and the value-array positions of its local pairs i ≤ j, flattened.
+  std::vector<int> plateUnknowns_, plateUnknownBegin_, plateSlots_, plateSlotBegin_;
+  std::vector<int> pairVerts_;
+  SlotTable pairSlots_;
+  // Per-evaluation scratch of the Koiter passes: each pair's angle and its gradient, the edge
+  // unknowns, each element's B Δs.
+  mutable std::vector<double> pairTheta_;
+  mutable std::vector<Vec12> pairGrad_;
+  mutable Eigen::VectorXd platePhi_;
+  mutable std::vector<Eigen::Vector3d> plateY_;
   std::vector<double> cellPressure_;
   std::vector<std::pair<int, double>> pressureLoads_;  // (triangle, Δp) with Δp ≠ 0
   std::vector<std::pair<int, Vec3>> pointForces_;

@@ -22,6 +22,11 @@ SolveReport ImplicitEulerSolver::solve(Points& x, ForceControl* fc) {
     rep.message = "the implicit-Euler reference solver supports displacement control only";
     return rep;
   }
+  if (model_.pattern().n != model_.dofs().freeCount()) {
+    rep.message = "the implicit-Euler reference solver runs the published bending models (hinge, "
+                  "linear or none), not Koiter bending";
+    return rep;
+  }
   model_.setProjectContactHessian(options_.projectContactHessian);
   const DofMap& dofs = model_.dofs();
   const SparsePattern& pattern = model_.pattern();

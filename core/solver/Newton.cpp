@@ -130,7 +130,9 @@ bool StaticSolver::tangentSolve(const Points& x, const Eigen::VectorXd& load,
   lastPcgIterations_ = 0;
   lastPcgSeconds_ = 0;
   lastPcgFailed_ = false;
-  Eigen::VectorXd f(n), u;
+  // The pattern may carry a bending term's edge unknowns after the positions (Model::pattern()):
+  // they take a zero right-hand side and their part of the solution is not used.
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.pattern().n), u;
   for (int i = 0; i < n; ++i) f[i] = load[dofs.freeDofs()[i]];
   chol_.solve(f, u);
   displacement.setZero(dofs.fullCount());
@@ -160,8 +162,12 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     analyzedFor_ = &pattern;
     analyzedNnz_ = pattern.nnz();
   }
-  std::vector<int> diagPos(n);
-  for (int j = 0; j < n; ++j) diagPos[j] = pattern.colPtr[j + 1] - 1;  // row == col comes last
+  // Vectors span the whole pattern: the free position components, then any edge unknowns of the
+  // bending term (Model::pattern()), which take a zero right-hand side; only the position part of
+  // a solution moves the tissue.
+  const int nAll = pattern.n;
+  std::vector<int> diagPos(nAll);
+  for (int j = 0; j < nAll; ++j) diagPos[j] = pattern.colPtr[j + 1] - 1;  // row == col comes last
 
   const Points x0 = x;
   const double travel0 = fc ? fc->travel : 0.0;
@@ -174,7 +180,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       options_.maxProbeStep > 0 ? options_.maxProbeStep
                                 : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
 
-  Eigen::VectorXd g(n), dx(n), z2(n), b(n);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(nAll), dx(nAll), z2(nAll), b = Eigen::VectorXd::Zero(nAll);
   double shift = lastShift_ > 0 ? lastShift_ * 0.1 : 0.0;
   auto fail = [&](const std::string& why) {
     x = x0;
@@ -291,7 +297,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     // quickly, or meets negative curvature, factorise the current tangent with a diagonal shift
     // that grows until the factorisation succeeds.
     double maxDiag = 0;
-    for (int j = 0; j < n; ++j) maxDiag = std::max(maxDiag, std::abs(ev_.hessian[diagPos[j]]));
+    for (int j = 0; j < nAll; ++j) maxDiag = std::max(maxDiag, std::abs(ev_.hessian[diagPos[j]]));
     if (maxDiag == 0) maxDiag = stiffScale;
     if (fc)
       for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);

@@ -4,7 +4,12 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <random>
 #include <stdexcept>
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 namespace tp {
 
@@ -61,6 +66,81 @@ CellComplex latticeDisc(double a, int rings, double clampedWidth, int cell) {
       cc.fixed[remap[v]] = fixed[v];
     }
   for (auto& t : tris) t = Eigen::Vector3i(remap[t[0]], remap[t[1]], remap[t[2]]);
+  if (cell >= 0) {
+    cc.cellLabels.resize(cell + 1);
+    for (int c = 0; c <= cell; ++c) cc.cellLabels[c] = c;
+  }
+  cc.addWall(tris, cell, -1);
+  return cc;
+}
+
+CellComplex delaunayDisc(double a, double spacing, unsigned seed, double clampedWidth, int cell) {
+  if (!(a > 0) || !(spacing > 0) || spacing > a || clampedWidth < 0)
+    throw std::invalid_argument("delaunayDisc: need 0 < spacing <= a, clampedWidth >= 0");
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
+  using Tds = CGAL::Triangulation_data_structure_2<Vb>;
+  using Delaunay = CGAL::Delaunay_triangulation_2<K, Tds>;
+  std::vector<Eigen::Vector2d> pts{Eigen::Vector2d::Zero()};
+  auto ring = [&](double r) {
+    const int n = std::max(6, static_cast<int>(std::round(2 * std::numbers::pi * r / spacing)));
+    for (int i = 0; i < n; ++i) {
+      const double t = 2 * std::numbers::pi * i / n;
+      pts.emplace_back(r * std::cos(t), r * std::sin(t));
+    }
+  };
+  ring(a);
+  const double outer = a + clampedWidth;
+  if (clampedWidth > 0) ring(outer);
+  // Dart throwing on a background grid of cell spacing/2 (at most one point per cell).
+  const double minDist = 0.7 * spacing, cellSize = 0.5 * minDist;
+  const int G = static_cast<int>(std::ceil(2 * outer / cellSize)) + 1;
+  std::vector<int> grid(static_cast<size_t>(G) * G, -1);
+  auto cellOf = [&](const Eigen::Vector2d& p) {
+    return std::pair<int, int>(static_cast<int>((p.x() + outer) / cellSize),
+                               static_cast<int>((p.y() + outer) / cellSize));
+  };
+  auto farEnough = [&](const Eigen::Vector2d& p) {
+    const auto [ci, cj] = cellOf(p);
+    for (int j = std::max(0, cj - 3); j <= std::min(G - 1, cj + 3); ++j)
+      for (int i = std::max(0, ci - 3); i <= std::min(G - 1, ci + 3); ++i) {
+        const int q = grid[static_cast<size_t>(j) * G + i];
+        if (q >= 0 && (pts[q] - p).norm() < minDist) return false;
+      }
+    return true;
+  };
+  auto insert = [&](int q) {
+    const auto [ci, cj] = cellOf(pts[q]);
+    grid[static_cast<size_t>(cj) * G + ci] = q;
+  };
+  for (int q = 0; q < static_cast<int>(pts.size()); ++q) insert(q);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-outer, outer);
+  const int tries = 40 * static_cast<int>(std::pow(outer / spacing, 2)) + 100;
+  for (int k = 0; k < tries; ++k) {
+    const Eigen::Vector2d p(u(rng), u(rng));
+    const double r = p.norm();
+    if (r > outer - 0.5 * minDist || std::abs(r - a) < 0.5 * minDist || !farEnough(p)) continue;
+    pts.push_back(p);
+    insert(static_cast<int>(pts.size()) - 1);
+  }
+  std::vector<std::pair<K::Point_2, int>> input;
+  for (int q = 0; q < static_cast<int>(pts.size()); ++q)
+    input.emplace_back(K::Point_2(pts[q].x(), pts[q].y()), q);
+  Delaunay dt(input.begin(), input.end());
+  CellComplex cc;
+  cc.rest.resize(3, static_cast<int>(pts.size()));
+  cc.fixed.assign(pts.size(), 0);
+  for (size_t q = 0; q < pts.size(); ++q) {
+    cc.rest.col(static_cast<int>(q)) = Vec3(pts[q].x(), pts[q].y(), 0.0);
+    cc.fixed[q] = pts[q].norm() >= a * (1 - 1e-12) ? 1 : 0;
+  }
+  std::vector<Eigen::Vector3i> tris;
+  for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+    const int v[3] = {f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
+    const bool anyFree = !cc.fixed[v[0]] || !cc.fixed[v[1]] || !cc.fixed[v[2]];
+    if (clampedWidth > 0 || anyFree) tris.emplace_back(v[0], v[1], v[2]);  // CGAL: counter-clockwise
+  }
   if (cell >= 0) {
     cc.cellLabels.resize(cell + 1);
     for (int c = 0; c <= cell; ++c) cc.cellLabels[c] = c;

@@ -14,6 +14,12 @@ namespace tp {
 /// One wall of cell `cell` (−1: a sheet), wound with +z normal.
 CellComplex latticeDisc(double a, int rings, double clampedWidth = 0, int cell = -1);
 
+/// Flat disc of radius a, meshed irregularly: the Delaunay triangulation of the centre (vertex 0),
+/// points every `spacing` on the rim (and on r = a + clampedWidth), and points thrown at random
+/// (fixed seed) at least 0.7·spacing apart. Clamping and kept triangles as latticeDisc.
+CellComplex delaunayDisc(double a, double spacing, unsigned seed, double clampedWidth = 0,
+                         int cell = -1);
+
 /// Closed sphere of radius R: octahedron subdivided `level` times (8·4^level triangles), vertices
 /// projected to the sphere; one cell, wound outward. Vertices on the coordinate axes exist.
 CellComplex octaSphere(double R, int level);

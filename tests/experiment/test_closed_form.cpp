@@ -9,10 +9,13 @@
 
 #include "mechanics/Model.h"
 #include "solver/Newton.h"
+#include "support/ConvergenceCheck.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
 using std::numbers::pi;
+using tp::test::expectConverging;
+using tp::test::report;
 
 namespace {
 
@@ -23,36 +26,6 @@ Material makeMaterial(double E, double nu, double h, BendingModel b) {
   m.thickness = h;
   m.bending = b;
   return m;
-}
-
-void report(const char* what, int level, double value, double expected) {
-  std::printf("  %-34s mesh %d: %.6g (closed form %.6g), error %+.3f%%\n", what, level, value,
-              expected, 100.0 * (value / expected - 1.0));
-}
-
-// The mesh-convergence argument. Meshes are refined by halving the spacing, and the finest mesh
-// must be within tolFinest. When the last three errors converge monotonically, their observed
-// order p gives the Richardson extrapolation e∞ = e₃ − (e₂ − e₃)/(2^p − 1), the estimated error of
-// the converged discretisation, which must be within tolLimit. Otherwise the errors have reached
-// the scatter of the meshes (lattice against circle), and the last two must both be within
-// tolFinest.
-void expectConverging(const std::vector<double>& e, double tolFinest, double tolLimit,
-                      const char* what) {
-  ASSERT_GE(e.size(), 3u);
-  const size_t n = e.size();
-  const double last = e[n - 1];
-  EXPECT_LT(std::abs(last), tolFinest) << what << ": finest mesh error " << 100 * last << "%";
-  const double d1 = e[n - 3] - e[n - 2], d2 = e[n - 2] - e[n - 1];
-  if (d1 * d2 > 0 && std::abs(d1) > std::abs(d2)) {
-    const double order = std::log2(d1 / d2);
-    const double limit = last - d2 / (std::pow(2.0, order) - 1);
-    std::printf("  %-34s observed order %.2f, extrapolated error %+.3f%%\n", what, order,
-                100 * limit);
-    EXPECT_LT(std::abs(limit), tolLimit) << what << ": extrapolated error " << 100 * limit << "%";
-  } else {
-    std::printf("  %-34s errors not monotone (converged to within their scatter)\n", what);
-    EXPECT_LT(std::abs(e[n - 2]), tolFinest) << what;
-  }
 }
 
 }  // namespace
@@ -201,26 +174,3 @@ TEST(ClosedForm, HenckyInflatedMembrane) {
   expectConverging(errors, 0.01, 0.01, "Hencky membrane");
 }
 
-// Unpressurised thin sphere under a point load (Reissner): F/δ = 4 E h² / (R √(3(1 − ν²))),
-// for δ ≪ h. The load is local (decay length ~ √(Rh)), so a spherical cap clamped six √(Rh)
-// from the pole stands for the whole sphere.
-TEST(ClosedForm, ReissnerPointLoadOnSphere) {
-  const double R = 10, E = 100, h = 0.1, nu = 0.3;
-  const double k = 4 * E * h * h / (R * std::sqrt(3 * (1 - nu * nu)));
-  const double F = 1e-3 * h * k;
-  const Material mat = makeMaterial(E, nu, h, BendingModel::Hinge);
-  std::vector<double> errors;
-  for (int rings : {15, 30, 60}) {
-    auto cc = std::make_shared<CellComplex>(sphericalCap(R, 6 * std::sqrt(R * h), rings));
-    Model m(cc, mat);
-    m.setPointForces({{0, Vec3(0, 0, -F)}});
-    Points x = cc->rest;
-    StaticSolver solver(m);
-    const SolveReport rep = solver.solve(x);
-    ASSERT_TRUE(rep.converged) << rep.message;
-    const double stiffness = F / (cc->rest(2, 0) - x(2, 0));
-    report("Reissner stiffness F/delta", rings, stiffness, k);
-    errors.push_back(stiffness / k - 1);
-  }
-  expectConverging(errors, 0.02, 0.02, "Reissner sphere");
-}
