@@ -101,7 +101,8 @@ CellComplex loadTissue(const std::string& path) {
 struct IndentArgs {
   std::string mesh;
   double E = 100.0, nu = 0.49, thickness = 0.2, pressure = 0.8;
-  std::string bending = "hinge";
+  std::string bending = "koiter";
+  std::string junctions = "hinged";
   double probeRadius = 1.0;
   std::string site, axis;
   std::optional<double> depth, force;
@@ -116,12 +117,18 @@ struct IndentArgs {
   bool verbose = false, quiet = false;
 };
 
+std::string bendingLabel(const Material& m) {
+  return m.bending == BendingModel::Koiter ? "koiter (" + toString(m.junctions) + " junctions)"
+                                           : toString(m.bending);
+}
+
 ExperimentSettings experimentSettings(const IndentArgs& a) {
   ExperimentSettings x;
   x.material.youngModulus = a.E;
   x.material.poissonRatio = a.nu;
   x.material.thickness = a.thickness;
   x.material.bending = parseBendingModel(a.bending);
+  x.material.junctions = parseJunctionRule(a.junctions);
   x.pressure = a.pressure;
   IndentationSettings& s = x.indentation;
   s.probeRadius = a.probeRadius;
@@ -153,6 +160,9 @@ ExperimentSettings experimentSettings(const IndentArgs& a) {
   x.solver.kind = parseSolverKind(a.solver);
   if (x.solver.kind == SolverKind::ImplicitEulerCG && a.force)
     throw UsageError("--solver implicit-euler-cg supports --depth only");
+  if (x.solver.kind == SolverKind::ImplicitEulerCG && x.material.bending == BendingModel::Koiter)
+    throw UsageError("--solver implicit-euler-cg runs the published bending models: add "
+                     "--bending linear (as published), hinge or none");
   x.solver.tolerance = a.tolerance;
   x.solver.verbose = a.verbose;
   x.validate();
@@ -190,7 +200,7 @@ int runIndent(const IndentArgs& a) {
                 cc->cellCount(), cc->vertexCount(), cc->triangleCount());
     std::printf("# E = %g MPa, nu = %g, h = %g um, p = %g MPa, bending %s, probe radius %g um\n",
                 mat.youngModulus, mat.poissonRatio, mat.thickness, settings.pressure,
-                toString(mat.bending).c_str(), settings.indentation.probeRadius);
+                bendingLabel(mat).c_str(), settings.indentation.probeRadius);
   }
   Monitor monitor;
   const auto started = std::chrono::steady_clock::now();
@@ -222,7 +232,7 @@ int runIndent(const IndentArgs& a) {
     w << "site " << pl.site.x() << "," << pl.site.y() << "," << pl.site.z() << " um, axis "
       << pl.axis.x() << "," << pl.axis.y() << "," << pl.axis.z() << "; E " << mat.youngModulus
       << " MPa, nu " << mat.poissonRatio << ", h " << mat.thickness << " um, p "
-      << settings.pressure << " MPa, bending " << toString(mat.bending) << ", probe radius "
+      << settings.pressure << " MPa, bending " << bendingLabel(mat) << ", probe radius "
       << settings.indentation.probeRadius << " um";
     comments.push_back(w.str());
   }
@@ -372,8 +382,16 @@ int main(int argc, char** argv) {
   indent->add_option("--thickness", ia.thickness, "Wall thickness h, um")->capture_default_str();
   indent->add_option("--pressure", ia.pressure, "Turgor pressure of every cell, MPa")
       ->capture_default_str();
-  indent->add_option("--bending", ia.bending, "Bending model: hinge | linear | none")
-      ->check(CLI::IsMember({"hinge", "linear", "none"}))
+  indent->add_option("--bending", ia.bending,
+                     "Bending model: koiter (plate energy with the walls' nu) | hinge | linear "
+                     "(the published model) | none")
+      ->check(CLI::IsMember({"koiter", "hinge", "linear", "none"}))
+      ->capture_default_str();
+  indent->add_option("--junctions", ia.junctions,
+                     "How walls meeting at a junction share rotation under koiter bending: "
+                     "hinged (they pivot; the outer surface bends as one sheet) | rigid (the "
+                     "angles between them kept)")
+      ->check(CLI::IsMember({"hinged", "rigid"}))
       ->capture_default_str();
   indent->add_option("--probe-radius", ia.probeRadius, "Radius of the spherical probe, um")
       ->capture_default_str();

@@ -62,13 +62,25 @@ QWidget* ParameterPanel::buildMaterialGroup() {
             tr("Turgor pressure p of every cell (MPa); about 0.8 MPa in the meristem, 0 when "
                "plasmolysed."));
   bending_ = new QComboBox;
-  bending_->addItem(tr("hinge (calibrated)"), int(BendingModel::Hinge));
+  bending_->setObjectName("bendingCombo");
+  bending_->addItem(tr("Koiter plate (with ν)"), int(BendingModel::Koiter));
+  bending_->addItem(tr("hinge (no Poisson coupling)"), int(BendingModel::Hinge));
   bending_->addItem(tr("linear (published model)"), int(BendingModel::Linear));
   bending_->addItem(tr("none (membrane only)"), int(BendingModel::None));
   bending_->setToolTip(
-      tr("Wall bending: discrete-shell hinges reproducing D = E h³/(12(1−ν²)) "
-         "(default); the linear bending vector of Volino & Magnenat-Thalmann "
-         "(about 3× too soft); or no bending."));
+      tr("Wall bending: the Kirchhoff–Love (Koiter) plate energy with the walls' ν, on Morley "
+         "triangles (default; right at free and hinged edges and on irregular meshes); "
+         "discrete-shell hinges reproducing D = E h³/(12(1−ν²)) on a cylinder but without the "
+         "Poisson coupling; the linear bending vector of Volino & Magnenat-Thalmann (the "
+         "published model, about 3× too soft); or no bending."));
+  junctions_ = new QComboBox;
+  junctions_->setObjectName("junctionsCombo");
+  junctions_->addItem(tr("hinged (walls pivot)"), int(JunctionRule::Hinged));
+  junctions_->addItem(tr("rigid (angles kept)"), int(JunctionRule::Rigid));
+  junctions_->setToolTip(
+      tr("How walls meeting at a junction share rotation under Koiter bending: hinged — each "
+         "wall pivots freely about the junction (the outer surface still bends as one sheet); "
+         "rigid — the angles between the walls are kept, as in a welded frame."));
   radius_ = spin(0.05, 20, 2, 0.1, tr(" µm"),
                  tr("Radius of the spherical probe (µm): from 1/15 of a cell to half a cell."));
   mesh_ = new QComboBox;
@@ -90,6 +102,7 @@ QWidget* ParameterPanel::buildMaterialGroup() {
   form->addRow(tr("Wall thickness h"), h_);
   form->addRow(tr("Turgor p"), p_);
   form->addRow(tr("Bending"), bending_);
+  form->addRow(tr("Junctions"), junctions_);
   form->addRow(tr("Probe radius"), radius_);
   form->addRow(tr("Mesh"), mesh_);
   form->addRow(tr("Mesh tolerance"), tolerance_);
@@ -108,7 +121,11 @@ QWidget* ParameterPanel::buildMaterialGroup() {
   for (auto* s : {E_, nu_, h_, p_, radius_, tolerance_})
     connect(s, &QDoubleSpinBox::valueChanged, this, &ParameterPanel::emitParams);
   connect(mesh_, &QComboBox::currentIndexChanged, this, &ParameterPanel::emitParams);
-  connect(bending_, &QComboBox::currentIndexChanged, this, &ParameterPanel::emitParams);
+  connect(bending_, &QComboBox::currentIndexChanged, this, [this] {
+    junctions_->setEnabled(bending_->currentData().toInt() == int(BendingModel::Koiter));
+    emitParams();
+  });
+  connect(junctions_, &QComboBox::currentIndexChanged, this, &ParameterPanel::emitParams);
   return box;
 }
 
@@ -187,6 +204,7 @@ SimulationParams ParameterPanel::params() const {
   p.thickness = h_->value();
   p.pressure = p_->value();
   p.bending = static_cast<BendingModel>(bending_->currentData().toInt());
+  p.junctions = static_cast<JunctionRule>(junctions_->currentData().toInt());
   p.probeRadius = radius_->value();
   const int level = mesh_->currentData().toInt();
   p.autoMesh = level < 0;
@@ -216,6 +234,8 @@ void ParameterPanel::setParams(const SimulationParams& p) {
   h_->setValue(p.thickness);
   p_->setValue(p.pressure);
   bending_->setCurrentIndex(bending_->findData(int(p.bending)));
+  junctions_->setCurrentIndex(junctions_->findData(int(p.junctions)));
+  junctions_->setEnabled(p.bending == BendingModel::Koiter);
   radius_->setValue(p.probeRadius);
   mesh_->setCurrentIndex(std::max(0, mesh_->findData(p.autoMesh ? -1 : p.meshLevel)));
   tolerance_->setValue(100.0 * p.meshTolerance);

@@ -57,6 +57,7 @@ class ParameterPanel : public QWidget {
 
   QDoubleSpinBox *E_, *nu_, *h_, *p_, *radius_, *tolerance_;
   QComboBox* bending_;
+  QComboBox* junctions_;
   QComboBox* mesh_;
   QDoubleSpinBox* depth_;
   QSlider* depthSlider_;

@@ -40,6 +40,7 @@ Material SimulationParams::material() const {
   m.poissonRatio = poissonRatio;
   m.thickness = thickness;
   m.bending = bending;
+  m.junctions = junctions;
   return m;
 }
 
@@ -69,7 +70,8 @@ std::string describe(const SimulationParams& p) {
   s << "E " << p.youngModulus << " MPa, p " << p.pressure << " MPa, r " << p.probeRadius << " µm";
   if (p.thickness != 0.2) s << ", h " << p.thickness << " µm";
   if (p.poissonRatio != 0.49) s << ", ν " << p.poissonRatio;
-  if (p.bending != BendingModel::Hinge) s << ", " << toString(p.bending);
+  if (p.bending != BendingModel::Koiter) s << ", " << toString(p.bending) << " bending";
+  else if (p.junctions != JunctionRule::Hinged) s << ", " << toString(p.junctions) << " junctions";
   if (!p.autoMesh) s << ", mesh level " << p.meshLevel;
   return s.str();
 }
@@ -77,7 +79,8 @@ std::string describe(const SimulationParams& p) {
 nlohmann::json toJson(const SimulationParams& p) {
   return {{"E_MPa", p.youngModulus},        {"nu", p.poissonRatio},
           {"thickness_um", p.thickness},    {"pressure_MPa", p.pressure},
-          {"bending", toString(p.bending)}, {"probe_radius_um", p.probeRadius},
+          {"bending", toString(p.bending)}, {"junctions", toString(p.junctions)},
+          {"probe_radius_um", p.probeRadius},
           {"mesh", p.autoMesh ? nlohmann::json("auto") : nlohmann::json(p.meshLevel)},
           {"mesh_tolerance", p.meshTolerance}};
 }
@@ -103,6 +106,14 @@ SimulationParams paramsFromJson(const nlohmann::json& j) {
       p.bending = parseBendingModel(j.at("bending").get<std::string>());
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string("'bending': ") + e.what());
+    }
+  }
+  if (j.contains("junctions")) {
+    if (!j.at("junctions").is_string()) throw std::runtime_error("'junctions' must be a string");
+    try {
+      p.junctions = parseJunctionRule(j.at("junctions").get<std::string>());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string("'junctions': ") + e.what());
     }
   }
   p.probeRadius = number(j, "probe_radius_um", p.probeRadius);

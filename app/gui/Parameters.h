@@ -16,7 +16,8 @@ struct SimulationParams {
   double poissonRatio = 0.49;   // ν
   double thickness = 0.2;       // h, µm
   double pressure = 0.8;        // turgor p of every cell, MPa
-  BendingModel bending = BendingModel::Hinge;
+  BendingModel bending = BendingModel::Koiter;
+  JunctionRule junctions = JunctionRule::Hinged;  // how walls share rotation at a junction (Koiter)
   double probeRadius = 1.0;  // µm
   // The mesh at the site (core/experiment/Experiment.h): automatic (refined level by level
   // until the estimated discretisation error is within meshTolerance) or a fixed level.
