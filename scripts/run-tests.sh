@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh
 cd build
 if [ -z "${DISPLAY:-}" ]; then
-  exec xvfb-run -a -s '-screen 0 1280x800x24' ctest --output-on-failure --timeout 900 "$@"
+  exec xvfb-run -a -s '-screen 0 1280x800x24' ctest --output-on-failure --timeout 1800 -j "$(nproc)" "$@"
 else
-  exec ctest --output-on-failure --timeout 900 "$@"
+  exec ctest --output-on-failure --timeout 1800 -j "$(nproc)" "$@"
 fi
