@@ -32,6 +32,19 @@ bool boolean(const nlohmann::json& j, const char* key, bool fallback) {
   return v.get<bool>();
 }
 
+// A value given by name (an enum's string), parsed by `parse`; the fallback when absent.
+template <class T, class Parse>
+T named(const nlohmann::json& j, const char* key, T fallback, Parse parse) {
+  if (!j.contains(key)) return fallback;
+  const auto& v = j.at(key);
+  if (!v.is_string()) throw std::runtime_error(std::string("'") + key + "' must be a string");
+  try {
+    return parse(v.get<std::string>());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("'") + key + "': " + e.what());
+  }
+}
+
 }  // namespace
 
 Material SimulationParams::material() const {
@@ -100,22 +113,8 @@ SimulationParams paramsFromJson(const nlohmann::json& j) {
   p.poissonRatio = number(j, "nu", p.poissonRatio);
   p.thickness = number(j, "thickness_um", p.thickness);
   p.pressure = number(j, "pressure_MPa", p.pressure);
-  if (j.contains("bending")) {
-    if (!j.at("bending").is_string()) throw std::runtime_error("'bending' must be a string");
-    try {
-      p.bending = parseBendingModel(j.at("bending").get<std::string>());
-    } catch (const std::exception& e) {
-      throw std::runtime_error(std::string("'bending': ") + e.what());
-    }
-  }
-  if (j.contains("junctions")) {
-    if (!j.at("junctions").is_string()) throw std::runtime_error("'junctions' must be a string");
-    try {
-      p.junctions = parseJunctionRule(j.at("junctions").get<std::string>());
-    } catch (const std::exception& e) {
-      throw std::runtime_error(std::string("'junctions': ") + e.what());
-    }
-  }
+  p.bending = named(j, "bending", p.bending, parseBendingModel);
+  p.junctions = named(j, "junctions", p.junctions, parseJunctionRule);
   p.probeRadius = number(j, "probe_radius_um", p.probeRadius);
   if (j.contains("mesh")) {
     const auto& m = j.at("mesh");

@@ -50,6 +50,8 @@ Model::Model(std::shared_ptr<const CellComplex> cc, const Material& material)
   }
   if (material_.bending == BendingModel::Koiter) {
     plate_ = buildPlateBending(c, topo_, D, material_.poissonRatio, material_.junctions);
+    if (plate_.maxArity > kMaxPlateArity)  // each edge has one pair at most (PlateBending.cpp)
+      throw std::logic_error("Koiter bending: an element with more than one wing per edge");
     for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
   }
   for (const auto& r : membraneRest_)

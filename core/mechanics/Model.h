@@ -112,7 +112,7 @@ class Model {
  private:
   void rebuildPressureLoads();
   double evaluatePlate(const Points& x, double* grad, double* values, bool withHessian) const;
-  static constexpr int kMaxPlateArity = 9;  // 3 + 6 wings (a wing per edge, two at most)
+  static constexpr int kMaxPlateArity = 6;  // a triangle and one wing per edge
   template <class Fn>
   void forContactTriangles(const Points& x, Fn&& fn) const;
 
