@@ -1,10 +1,12 @@
 #include "io/Centroids.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <stdexcept>
 
 namespace tp {
@@ -74,7 +76,8 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
   auto column = [&](const std::string& want, const char* role) -> int {
     if (want.empty()) return -1;
     if (isPosition(want)) {
-      const int pos = std::stoi(want);
+      // Positions are digits only; a long one overflows int, so compare as text first.
+      const int pos = want.size() > 6 ? 0 : std::stoi(want);
       if (pos < 1 || pos > static_cast<int>(names.size()))
         throw std::runtime_error(path + ": column " + want + " for " + role + " does not exist (the header has " +
                                  std::to_string(names.size()) + " columns)");
@@ -92,6 +95,7 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
             cv = column(cols.volume, "the volume");
   CentroidTable t;
   std::set<int> seen;
+  std::vector<int> rowLine;  // file line of each row, for messages
   std::string line;
   while (std::getline(in, line)) {
     ++lineNo;
@@ -121,12 +125,31 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": label " +
                                std::to_string(label) + " appears twice");
     t.labels.push_back(label);
+    rowLine.push_back(lineNo);
     t.points.emplace_back(number(cx, "x"), number(cy, "y"), number(cz, "z"));
     if (cv >= 0) t.volumes.push_back(number(cv, "volume"));
   }
   if (t.points.size() < 4)
     throw std::runtime_error(path + ": needs at least 4 centroids (found " +
                              std::to_string(t.points.size()) + ")");
+  // Two cells at one point have no Voronoi wall between them: name both rows.
+  std::vector<int> order(t.points.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  auto lexLess = [&](int a, int b) {
+    const Vec3 &p = t.points[a], &q = t.points[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  };
+  std::sort(order.begin(), order.end(), lexLess);
+  for (size_t k = 1; k < order.size(); ++k) {
+    const int a = order[k - 1], b = order[k];
+    if (t.points[a] == t.points[b]) {
+      const int first = std::min(a, b), second = std::max(a, b);
+      throw std::runtime_error(path + ":" + std::to_string(rowLine[second]) + ": cell " +
+                               std::to_string(t.labels[second]) + " has the same centroid as cell " +
+                               std::to_string(t.labels[first]) + " (line " +
+                               std::to_string(rowLine[first]) + "): two cells cannot share a centroid");
+    }
+  }
   return t;
 }
 

@@ -242,10 +242,16 @@ ValidityReport checkValidity(const CellComplex& cc) {
   double meanArea = 0;
   for (double a : areas) meanArea += a;
   meanArea /= std::max(1, T);
+  // A zero-area triangle has no rest metric, so its membrane energy is undefined (issue 9: it
+  // used to surface as "energy is not finite" mid-solve). Name each one with its vertices.
   for (int t = 0; t < T; ++t)
-    if (areas[t] <= 1e-12 * meanArea) ++r.degenerateTriangles;
-  if (r.degenerateTriangles)
-    r.warnings.push_back(std::to_string(r.degenerateTriangles) + " degenerate triangle(s)");
+    if (!(areas[t] > 1e-12 * meanArea)) {
+      ++r.degenerateTriangles;
+      const auto& tri = cc.triangles[t];
+      err("triangle " + std::to_string(t) + " (vertices " + std::to_string(tri[0]) + ", " +
+          std::to_string(tri[1]) + ", " + std::to_string(tri[2]) + "): degenerate, area " +
+          [&] { std::ostringstream o; o << areas[t]; return o.str(); }() + " µm² (its corners are collinear or coincide)");
+    }
 
   // Per cell: directed edges of its triangles wound outward from the cell.
   std::vector<std::map<std::pair<int, int>, int>> directed(C);

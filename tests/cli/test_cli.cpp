@@ -176,6 +176,33 @@ TEST(Cli, BadInputIsNamed) {
   r = cli("indent --mesh " + bad);
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("bad.ply"));
+  // A cube whose top corner (6,6,6) sits on (6,0,6): two zero-area triangles, named at read
+  // (issue 9: this was exit 3 "energy is not finite" in the middle of the solve).
+  const std::string degen = tmp("degenerate.ply");
+  std::ofstream(degen)
+      << "ply\nformat ascii 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
+         "property double z\nproperty uchar fixed\nelement face 12\n"
+         "property list uchar int vertex_indices\nproperty int cell\nproperty int neighbor\n"
+         "property int wall\nend_header\n"
+         "0 0 0 1\n6 0 0 1\n0 6 0 1\n6 6 0 1\n0 0 6 0\n6 0 6 0\n0 6 6 0\n6 0 6 0\n"
+         "3 4 6 0 1 -1 0\n3 6 2 0 1 -1 0\n3 1 3 5 1 -1 1\n3 3 7 5 1 -1 1\n3 0 1 4 1 -1 2\n"
+         "3 1 5 4 1 -1 2\n3 6 7 2 1 -1 3\n3 7 3 2 1 -1 3\n3 2 3 0 1 -1 4\n3 3 1 0 1 -1 4\n"
+         "3 4 5 6 1 -1 5\n3 5 7 6 1 -1 5\n";
+  r = cli("indent --mesh " + degen + " --depth 0.1 --steps 1");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("degenerate.ply: not a valid tissue"));
+  EXPECT_THAT(r.output,
+              HasSubstr("triangle 3 (vertices 3, 7, 5): degenerate, area 0 µm² (its corners are "
+                        "collinear or coincide)"));
+  // Centroid tables: two cells at one point, and a column position past any int.
+  const std::string same = tmp("same.csv");
+  std::ofstream(same) << "label,x,y,z\n1,0,0,0\n2,5,0,0\n3,0,5,0\n4,0,0,5\n5,5,0,0\n";
+  r = cli("build --centroids " + same + " --out " + tmp("never.ply"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("same.csv:6: cell 5 has the same centroid as cell 2 (line 3)"));
+  r = cli("build --centroids " + same + " --columns 99999999999,2,3,4 --out " + tmp("never.ply"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("column 99999999999 for the label does not exist"));
   const std::string mgx =
       tp::test::sharedDataFile("mgx2r_meristem_morphographx/mesh_meristem_full_T0.ply");
   TP_SKIP_WITHOUT_DATA(mgx);

@@ -166,6 +166,11 @@ TEST(Centroids, ErrorsNameFileLineAndColumn) {
   EXPECT_THAT(message(bad, "label,x,y,9"), HasSubstr("column 9 for z does not exist"));
   const auto dup = writeTemp("dup.csv", "label,x,y,z\n1,0,0,0\n1,1,0,0\n3,0,0,0\n4,1,1,1\n");
   EXPECT_THAT(message(dup, "label,x,y,z"), HasSubstr("dup.csv:3: label 1 appears twice"));
+  const auto same = writeTemp("same.csv", "label,x,y,z\n1,0,0,0\n2,5,0,0\n\n7,0,5,0\n9,5,0,0\n");
+  EXPECT_THAT(message(same, "label,x,y,z"),
+              HasSubstr("same.csv:6: cell 9 has the same centroid as cell 2 (line 3)"));
+  EXPECT_THAT(message(bad, "label,x,y,99999999999"),
+              HasSubstr("column 99999999999 for z does not exist (the header has 4 columns)"));
   const auto few = writeTemp("few.csv", "label,x,y,z\n1,0,0,0\n");
   EXPECT_THAT(message(few, "label,x,y,z"), HasSubstr("needs at least 4 centroids"));
   const auto nan = writeTemp("nan.csv", "label,x,y,z\n1,0,0,nan\n");
