@@ -6,7 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <functional>
 #include <cmath>
@@ -16,6 +18,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 #include "experiment/Analysis.h"
 #include "experiment/Experiment.h"
@@ -38,6 +41,41 @@ using namespace tp;
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+// Ctrl-C (SIGINT) or SIGTERM during a run: the first asks the solver to stop at its next Newton
+// iteration and the points done are kept (printed and written); a second one stops at once.
+// Exit status 130, as a shell reports an interrupted command.
+constexpr int kExitInterrupted = 130;
+std::atomic<bool> interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // set from a signal handler
+
+extern "C" void onInterrupt(int sig) {
+  interrupted.store(true);
+  std::signal(sig, SIG_DFL);  // the next one ends the process
+}
+
+// Installs onInterrupt for the lifetime of the object, restoring the previous handlers after
+// (so the atomic writer's own clean-up of temporary files takes over while outputs are written).
+class InterruptScope {
+ public:
+  InterruptScope() {
+    for (int i = 0; i < 2; ++i) {
+      struct sigaction sa {};
+      sa.sa_handler = onInterrupt;
+      sigemptyset(&sa.sa_mask);
+      sigaction(kSignals[i], &sa, &old_[i]);
+    }
+  }
+  ~InterruptScope() {
+    for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &old_[i], nullptr);
+  }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  static constexpr int kSignals[2] = {SIGINT, SIGTERM};
+  struct sigaction old_[2] {};
 };
 
 // Outputs are checked before any work: never an input (a --csv naming the tissue would replace
@@ -174,7 +212,8 @@ std::string describeError(const MeshError& e, const ExperimentSettings& s) {
   std::ostringstream out;
   const bool force = s.indentation.control == Control::Force;
   if (!e.estimated()) {
-    out << "estimated discretisation error: " << e.method;
+    out << "estimated discretisation error: "
+        << (e.method.empty() ? "not estimated (the curve did not reach its end)" : e.method);
     return out.str();
   }
   out.precision(2);
@@ -203,18 +242,45 @@ int runIndent(const IndentArgs& a) {
                 bendingLabel(mat).c_str(), settings.indentation.probeRadius);
   }
   Monitor monitor;
+  monitor.cancel = &interrupted;
   const auto started = std::chrono::steady_clock::now();
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
+  // On a terminal a progress line is rewritten in place at every point of the curve.
+  const bool terminal = !a.quiet && ::isatty(STDERR_FILENO);
+  bool progressShown = false;
+  auto endProgress = [&] {
+    if (progressShown) std::fprintf(stderr, "\n");
+    progressShown = false;
+  };
   if (!a.quiet)
     monitor.stage = [&](const std::string& what) {
-      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      std::fprintf(stderr, "[%6.2f s] %s\n", t, what.c_str());
+      endProgress();
+      std::fprintf(stderr, "[%6.2f s] %s\n", seconds(), what.c_str());
+    };
+  if (terminal)
+    monitor.point = [&](const CurvePoint& p, int done, int total) {
+      std::fprintf(stderr, "\r\033[K[%6.2f s] point %d/%d: depth %.4f um, force %.6g uN%s", seconds(),
+                   done, total, p.depth, p.force, p.converged ? "" : " (not converged)");
+      std::fflush(stderr);
+      progressShown = true;
     };
   ExperimentResult r;
-  try {
-    r = experiment.run(monitor);
-  } catch (const SolveFailure& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
+  {
+    InterruptScope scope;
+    try {
+      r = experiment.run(monitor);
+    } catch (const SolveFailure& e) {
+      endProgress();
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 3;
+    } catch (const Cancelled&) {
+      endProgress();
+      std::fprintf(stderr, "interrupted before the first point of the curve: nothing written\n");
+      return kExitInterrupted;
+    }
+    endProgress();
   }
   const PreparedSite& site = *r.site;
   const Indentation& ind = *site.indentation;
@@ -235,6 +301,9 @@ int runIndent(const IndentArgs& a) {
       << settings.pressure << " MPa, bending " << bendingLabel(mat) << ", probe radius "
       << settings.indentation.probeRadius << " um";
     comments.push_back(w.str());
+    if (r.cancelled)
+      comments.push_back("interrupted by the user after " + std::to_string(r.curve.size()) +
+                         " point(s): " + r.message);
   }
   if (!a.quiet) {
     std::printf("# rest state: %d Newton iterations, relative residual %.2e\n",
@@ -262,6 +331,11 @@ int runIndent(const IndentArgs& a) {
     const double Eapp = hertzApparentModulus(r.curve, settings.indentation.probeRadius, mat.poissonRatio);
     std::printf("# secant stiffness %.6g uN/um, Hertz apparent modulus %.6g MPa\n",
                 secantStiffness(r.curve), Eapp);
+  }
+  if (r.cancelled) {
+    std::fprintf(stderr, "interrupted: %s; the %zu point(s) done are kept\n", r.message.c_str(),
+                 r.curve.size());
+    return kExitInterrupted;
   }
   if (!r.complete) {
     std::fprintf(stderr, "error: %s\n", r.message.c_str());

@@ -409,7 +409,16 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
   const bool force = ind.control == Control::Force;
   Seed seed;  // the last level's solution, to start the next one from
   for (int level = mesh.level;; ++level) {
-    result.site = prepareSite(level, monitor, seed.mesh ? &seed : nullptr);
+    try {
+      result.site = prepareSite(level, monitor, seed.mesh ? &seed : nullptr);
+    } catch (const Cancelled&) {
+      if (!result.site) throw;  // nothing done yet
+      // Stopped while refining further: the last level's complete curve stands, as it was.
+      result.cancelled = true;
+      result.message = "cancelled while preparing mesh level " + std::to_string(level) +
+                       "; the curve of level " + std::to_string(level - 1) + " is kept";
+      return result;
+    }
     std::ostringstream what;
     what << "Running the curve (mesh level " << level << ")…";
     monitor.say(what.str());

@@ -8,7 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <csignal>
+#include <thread>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "io/CurveCsv.h"
 #include "support/SharedData.h"
@@ -291,4 +294,61 @@ TEST(Cli, InfoAndBuildFromCentroids) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("correlation"));
   EXPECT_TRUE(std::filesystem::exists(out));
+}
+
+TEST(Cli, CtrlCStopsTheRunAndKeepsThePointsDone) {
+  // Issue 9: a long run stopped with Ctrl-C (SIGINT) ends cleanly: exit 130, the converged points
+  // printed and written to the CSV with a comment saying so, no temporary file left behind.
+  namespace fs = std::filesystem;
+  const fs::path dir = tmp("interrupt");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string csv = (dir / "curve.csv").string();
+  const std::string cmd = std::string("exec ") + TP_CLI + " indent --mesh " + smallTissue() +
+                          " --depth 0.5 --steps 2000 --refine 2 --csv " + csv + " 2>&1";
+  int out[2];
+  ASSERT_EQ(pipe(out), 0);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    close(out[1]);
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out[1]);
+  std::string output;
+  std::array<char, 4096> buf{};
+  bool signalled = false;
+  // Stopped a few seconds into the curve (rows are printed at the end, so time is the cue).
+  std::thread stopper;
+  for (ssize_t n; (n = read(out[0], buf.data(), buf.size())) > 0;) {
+    output.append(buf.data(), static_cast<size_t>(n));
+    if (!signalled && output.find("Running the curve") != std::string::npos) {
+      signalled = true;
+      stopper = std::thread([pid] {
+        std::this_thread::sleep_for(std::chrono::seconds(3));
+        kill(pid, SIGINT);
+      });
+    }
+  }
+  if (stopper.joinable()) stopper.join();
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(signalled) << output;
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+  EXPECT_THAT(output, HasSubstr("interrupted: cancelled; the "));
+  const auto curve = tp::readCurveCsv(csv);
+  ASSERT_GE(curve.size(), 2u);
+  EXPECT_LT(curve.size(), 2001u);
+  for (const auto& p : curve) EXPECT_TRUE(p.converged);
+  std::ifstream in(csv);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("# interrupted by the user after " +
+                              std::to_string(curve.size()) + " point(s)"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string(), "curve.csv") << "left behind: " << e.path();
 }
