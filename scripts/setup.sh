@@ -14,8 +14,8 @@ PACKAGES=(
   # GUI: Qt 6 widgets/OpenGL/SVG/print support, QCustomPlot for Qt 6, GL headers, Mesa software GL
   qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6svg6-dev libgl-dev libgl1-mesa-dri
   libqcustomplot-dev libqcustomplot2.1-qt6
-  # tests and benchmarks
-  libgtest-dev libbenchmark-dev
+  # tests and benchmarks; clang with libFuzzer and the sanitizer runtimes for the ASan+UBSan build and fuzzers
+  libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev libomp-14-dev
   # headless GUI testing and looking at the window
   xvfb xauth xdotool imagemagick
 )

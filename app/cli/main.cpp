@@ -152,7 +152,7 @@ struct IndentArgs {
   std::string csv, vtu;
   double tolerance = 1e-8;
   std::string solver = "newton";
-  bool verbose = false, quiet = false;
+  bool verbose = false, quiet = false, progress = false;
 };
 
 std::string bendingLabel(const Material& m) {
@@ -247,8 +247,10 @@ int runIndent(const IndentArgs& a) {
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   };
-  // On a terminal a progress line is rewritten in place at every point of the curve.
+  // On a terminal a progress line is rewritten in place at every point of the curve; with
+  // --progress elsewhere (a log file, a pipe) one line per point is printed.
   const bool terminal = !a.quiet && ::isatty(STDERR_FILENO);
+  const bool lines = !a.quiet && !terminal && a.progress;
   bool progressShown = false;
   auto endProgress = [&] {
     if (progressShown) std::fprintf(stderr, "\n");
@@ -265,6 +267,12 @@ int runIndent(const IndentArgs& a) {
                    done, total, p.depth, p.force, p.converged ? "" : " (not converged)");
       std::fflush(stderr);
       progressShown = true;
+    };
+  else if (lines)
+    monitor.point = [&](const CurvePoint& p, int done, int total) {
+      std::fprintf(stderr, "[%6.2f s] point %d/%d: depth %.4f um, force %.6g uN%s\n", seconds(),
+                   done, total, p.depth, p.force, p.converged ? "" : " (not converged)");
+      std::fflush(stderr);
     };
   ExperimentResult r;
   {
@@ -509,6 +517,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   indent->add_flag("--verbose", ia.verbose, "Print every Newton iteration");
   indent->add_flag("--quiet", ia.quiet, "Print nothing but errors");
+  indent->add_flag("--progress", ia.progress,
+                   "A line per point of the curve on stderr also when it is not a terminal "
+                   "(on a terminal one progress line is always rewritten in place)");
 
   std::string infoPath;
   auto* info = app.add_subcommand("info", "Cells, walls, vertices, triangles, closedness, volume "

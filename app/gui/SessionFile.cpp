@@ -165,18 +165,22 @@ void saveSession(const std::string& path, const SessionState& s) {
   writeFileAtomically(path, sessionToJson(copy).dump(2) + "\n");
 }
 
+SessionState sessionFromText(const std::string& text, const std::string& nameForErrors) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {  // a syntax error, or a number out of range (fuzzing)
+    throw std::runtime_error(nameForErrors + ": not valid JSON: " + e.what());
+  }
+  return sessionFromJson(j, nameForErrors);
+}
+
 SessionState loadSession(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the session file");
   std::stringstream ss;
   ss << in.rdbuf();
-  json j;
-  try {
-    j = json::parse(ss.str());
-  } catch (const json::parse_error& e) {
-    throw std::runtime_error(path + ": not valid JSON: " + e.what());
-  }
-  SessionState s = sessionFromJson(j, path);
+  SessionState s = sessionFromText(ss.str(), path);
   if (!s.tissuePath.empty() && fs::path(s.tissuePath).is_relative()) {
     std::error_code ec;
     s.tissuePath =

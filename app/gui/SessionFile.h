@@ -30,6 +30,9 @@ struct SessionState {
 nlohmann::json sessionToJson(const SessionState& s);
 /// Throws std::runtime_error naming `nameForErrors` and the offending key.
 SessionState sessionFromJson(const nlohmann::json& j, const std::string& nameForErrors);
+/// Parses the text of a session file; not JSON (or a number JSON cannot hold) throws
+/// std::runtime_error too.
+SessionState sessionFromText(const std::string& text, const std::string& nameForErrors);
 
 /// Writes the session atomically. A tissue path inside the session's folder is stored relative
 /// to it, so a folder of session + tissue can be moved. Throws std::runtime_error.

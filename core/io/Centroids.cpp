@@ -49,6 +49,11 @@ CentroidColumns CentroidColumns::parse(const std::string& spec) {
   if (parts.size() != 4 && parts.size() != 5)
     throw std::invalid_argument("column spec '" + spec +
                                 "': expected label,x,y,z or label,x,y,z,volume");
+  for (int k = 1; k <= 3; ++k)
+    if (parts[k].empty())
+      throw std::invalid_argument("column spec '" + spec + "': " + "xyz"[k - 1] +
+                                  " needs a column (a header name or a 1-based position); only "
+                                  "the label and the volume may be left empty");
   CentroidColumns c;
   c.label = parts[0];
   c.x = parts[1];
@@ -61,25 +66,32 @@ CentroidColumns CentroidColumns::parse(const std::string& spec) {
 CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the file");
+  return readCentroids(in, path, cols);
+}
+
+CentroidTable readCentroids(std::istream& in, const std::string& name, const CentroidColumns& cols) {
   std::string header;
   int lineNo = 0;
   while (std::getline(in, header)) {
     ++lineNo;
     if (header.find_first_not_of(" \t\r") != std::string::npos) break;
   }
-  if (header.empty()) throw std::runtime_error(path + ": empty file");
+  if (header.empty()) throw std::runtime_error(name + ": empty file");
   const char delim = header.find('\t') != std::string::npos   ? '\t'
                      : header.find(';') != std::string::npos && header.find(',') == std::string::npos
                          ? ';'
                          : ',';
   const auto names = splitRow(header, delim);
-  auto column = [&](const std::string& want, const char* role) -> int {
-    if (want.empty()) return -1;
+  auto column = [&](const std::string& want, const char* role, bool optional = true) -> int {
+    if (want.empty()) {
+      if (optional) return -1;
+      throw std::runtime_error(name + ": no column given for " + role);
+    }
     if (isPosition(want)) {
       // Positions are digits only; a long one overflows int, so compare as text first.
       const int pos = want.size() > 6 ? 0 : std::stoi(want);
       if (pos < 1 || pos > static_cast<int>(names.size()))
-        throw std::runtime_error(path + ": column " + want + " for " + role + " does not exist (the header has " +
+        throw std::runtime_error(name + ": column " + want + " for " + role + " does not exist (the header has " +
                                  std::to_string(names.size()) + " columns)");
       return pos - 1;
     }
@@ -87,11 +99,11 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
       if (names[i] == want) return static_cast<int>(i);
     std::string have;
     for (const auto& n : names) have += (have.empty() ? "" : ", ") + n;
-    throw std::runtime_error(path + ": no column named '" + want + "' for " + role +
+    throw std::runtime_error(name + ": no column named '" + want + "' for " + role +
                              " (columns: " + have + ")");
   };
-  const int cl = column(cols.label, "the label"), cx = column(cols.x, "x"),
-            cy = column(cols.y, "y"), cz = column(cols.z, "z"),
+  const int cl = column(cols.label, "the label"), cx = column(cols.x, "x", false),
+            cy = column(cols.y, "y", false), cz = column(cols.z, "z", false),
             cv = column(cols.volume, "the volume");
   CentroidTable t;
   std::set<int> seen;
@@ -103,13 +115,13 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
     const auto f = splitRow(line, delim);
     auto number = [&](int c, const char* role) {
       if (c >= static_cast<int>(f.size()))
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": missing " + role +
+        throw std::runtime_error(name + ":" + std::to_string(lineNo) + ": missing " + role +
                                  " (column " + std::to_string(c + 1) + ")");
       double v = 0;
       const std::string& s = f[c];
       const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
       if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v))
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": " + role + " '" + s +
+        throw std::runtime_error(name + ":" + std::to_string(lineNo) + ": " + role + " '" + s +
                                  "' (column " + std::to_string(c + 1) + ") is not a finite number");
       return v;
     };
@@ -117,12 +129,12 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
     if (cl >= 0) {
       const double v = number(cl, "label");
       if (v != std::floor(v) || std::abs(v) > 2e9)
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": label '" + f[cl] +
+        throw std::runtime_error(name + ":" + std::to_string(lineNo) + ": label '" + f[cl] +
                                  "' is not an integer");
       label = static_cast<int>(v);
     }
     if (!seen.insert(label).second)
-      throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": label " +
+      throw std::runtime_error(name + ":" + std::to_string(lineNo) + ": label " +
                                std::to_string(label) + " appears twice");
     t.labels.push_back(label);
     rowLine.push_back(lineNo);
@@ -130,7 +142,7 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
     if (cv >= 0) t.volumes.push_back(number(cv, "volume"));
   }
   if (t.points.size() < 4)
-    throw std::runtime_error(path + ": needs at least 4 centroids (found " +
+    throw std::runtime_error(name + ": needs at least 4 centroids (found " +
                              std::to_string(t.points.size()) + ")");
   // Two cells at one point have no Voronoi wall between them: name both rows.
   std::vector<int> order(t.points.size());
@@ -144,7 +156,7 @@ CentroidTable readCentroids(const std::string& path, const CentroidColumns& cols
     const int a = order[k - 1], b = order[k];
     if (t.points[a] == t.points[b]) {
       const int first = std::min(a, b), second = std::max(a, b);
-      throw std::runtime_error(path + ":" + std::to_string(rowLine[second]) + ": cell " +
+      throw std::runtime_error(name + ":" + std::to_string(rowLine[second]) + ": cell " +
                                std::to_string(t.labels[second]) + " has the same centroid as cell " +
                                std::to_string(t.labels[first]) + " (line " +
                                std::to_string(rowLine[first]) + "): two cells cannot share a centroid");

@@ -1,6 +1,7 @@
 #pragma once
 // Tables of cell centroids (µm), e.g. from a segmented confocal image: CSV or TSV with a header.
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -28,5 +29,8 @@ struct CentroidTable {
 /// column for a missing column, a value that is not a finite number, a repeated label, or fewer
 /// than 4 rows.
 CentroidTable readCentroids(const std::string& path, const CentroidColumns& columns = {});
+/// The same from a stream; errors name `nameForErrors` in place of the file.
+CentroidTable readCentroids(std::istream& in, const std::string& nameForErrors,
+                            const CentroidColumns& columns = {});
 
 }  // namespace tp

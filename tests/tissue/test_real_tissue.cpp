@@ -177,6 +177,18 @@ TEST(Centroids, ErrorsNameFileLineAndColumn) {
   EXPECT_THAT(message(nan, "label,x,y,z"), HasSubstr("is not a finite number"));
   EXPECT_THAT(message(testing::TempDir() + "/none.csv", "label,x,y,z"), HasSubstr("cannot open"));
   EXPECT_THROW(CentroidColumns::parse("x,y"), std::invalid_argument);
+  // Found by fuzz_centroids: an empty coordinate column read the field before the row (f[-1]).
+  EXPECT_THAT(message(bad, ",2,,4"),
+              HasSubstr("column spec ',2,,4': y needs a column (a header name or a 1-based "
+                        "position)"));
+  CentroidColumns noY;
+  noY.y.clear();
+  try {
+    readCentroids(bad, noY);
+    ADD_FAILURE() << "an empty y column was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("bad.csv: no column given for y"));
+  }
 }
 
 TEST(RealTissue, CoplanarCentroidsAreRefusedByName) {

@@ -120,6 +120,20 @@ class FilesTest : public QObject {
     j["curves"] = {{{"name", "c"}, {"points", {{1, 2, 3}}}}};
     QVERIFY(message(j).find("curves[0].points[0]") != std::string::npos);
     QVERIFY(message(j).rfind("s.json", 0) == 0);  // the file is named first
+    // Found by fuzz_session: a number JSON cannot hold threw nlohmann's out_of_range past the
+    // reader (only parse errors were turned into a message naming the file).
+    auto textMessage = [](const std::string& text) {
+      try {
+        sessionFromText(text, "s.json");
+      } catch (const std::runtime_error& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    QCOMPARE(textMessage(R"({"format": "tissueprobe-session", "version": 1, "current_site": 3333e33333})")
+                 .rfind("s.json: not valid JSON: ", 0),
+             std::size_t(0));
+    QVERIFY(textMessage("{\"format\": ").rfind("s.json: not valid JSON: ", 0) == 0);
   }
 
   void severalCurvesInOneCsv() {
