@@ -138,7 +138,14 @@ CentroidTable readCentroids(std::istream& in, const std::string& name, const Cen
                                std::to_string(label) + " appears twice");
     t.labels.push_back(label);
     rowLine.push_back(lineNo);
-    t.points.emplace_back(number(cx, "x"), number(cy, "y"), number(cz, "z"));
+    auto coordinate = [&](int c, const char* role) {
+      const double v = number(c, role);
+      if (std::abs(v) > kMaxCoordinate)  // found by fuzz_centroids: CGAL asserted on 1e74
+        throw std::runtime_error(name + ":" + std::to_string(lineNo) + ": " + role + " '" + f[c] +
+                                 "' (column " + std::to_string(c + 1) + ") is beyond ±1e6 µm");
+      return v;
+    };
+    t.points.emplace_back(coordinate(cx, "x"), coordinate(cy, "y"), coordinate(cz, "z"));
     if (cv >= 0) t.volumes.push_back(number(cv, "volume"));
   }
   if (t.points.size() < 4)

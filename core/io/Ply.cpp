@@ -21,9 +21,6 @@ namespace tp {
 
 namespace {
 
-// Coordinates are µm; beyond 1 m nothing is a tissue, and volumes (x³) would overflow near 1e308.
-constexpr double kMaxCoordinate = 1e6;
-
 // ---------------------------------------------------------------------------------------------
 // Scalar types and number parsing
 

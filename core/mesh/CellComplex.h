@@ -13,6 +13,10 @@
 
 namespace tp {
 
+/// Largest coordinate magnitude a reader accepts (µm): beyond 1 m nothing is a tissue, and
+/// volumes (x³) and CGAL's constructions would overflow or degenerate.
+inline constexpr double kMaxCoordinate = 1e6;
+
 using Vec3 = Eigen::Vector3d;
 using Points = Eigen::Matrix3Xd;  // 3 x #V, one column per vertex (µm)
 

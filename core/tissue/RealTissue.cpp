@@ -126,7 +126,16 @@ CellComplex tissueFromCentroids(const CentroidTable& table, const RealTissueOpti
   rep.baseZ = opt.baseZ ? *opt.baseZ : zmin + rep.cellSize;
 
   // The closing surface is reconstructed from every centroid, then the base plane cuts it.
-  const Surface surf = alphaSurface(all, opt.alphaFactor, &rep.alpha);
+  // A CGAL precondition that still fails (centroids nearly degenerate at a scale the checks
+  // above let through) is the input's fault: reported as such, never a crash.
+  Surface surf;
+  try {
+    surf = alphaSurface(all, opt.alphaFactor, &rep.alpha);
+  } catch (const CGAL::Failure_exception& e) {
+    throw std::invalid_argument("the surface around the centroids cannot be reconstructed "
+                                "(CGAL: " + e.expression() + " failed): are they nearly "
+                                "coplanar or collinear?");
+  }
   rep.surfaceTriangles = static_cast<int>(surf.tris.size());
 
   std::vector<Vec3> seeds;

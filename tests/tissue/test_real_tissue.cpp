@@ -175,6 +175,10 @@ TEST(Centroids, ErrorsNameFileLineAndColumn) {
   EXPECT_THAT(message(few, "label,x,y,z"), HasSubstr("needs at least 4 centroids"));
   const auto nan = writeTemp("nan.csv", "label,x,y,z\n1,0,0,nan\n");
   EXPECT_THAT(message(nan, "label,x,y,z"), HasSubstr("is not a finite number"));
+  // Found by fuzz_centroids: CGAL's alpha shape asserted on a centroid at 1e74 µm.
+  const auto far = writeTemp("far.csv", "label,x,y,z\n1,0,0,0\n2,5,0,0\n3,0,5,0\n4,0,0,1e74\n");
+  EXPECT_THAT(message(far, "label,x,y,z"),
+              HasSubstr("far.csv:5: z '1e74' (column 4) is beyond ±1e6 µm"));
   EXPECT_THAT(message(testing::TempDir() + "/none.csv", "label,x,y,z"), HasSubstr("cannot open"));
   EXPECT_THROW(CentroidColumns::parse("x,y"), std::invalid_argument);
   // Found by fuzz_centroids: an empty coordinate column read the field before the row (f[-1]).
