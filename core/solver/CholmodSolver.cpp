@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <cstring>
 #include <stdexcept>
 
@@ -18,20 +17,26 @@ namespace {
 
 // OpenBLAS's thread count, when the BLAS behind CHOLMOD is OpenBLAS (looked up at run time: the
 // reference BLAS has no such call). Triangular solves with one right-hand side are memory-bound
-// and lose time to thread hand-offs; factorisations gain from threads.
+// and lose time to thread hand-offs; factorisations gain from threads, up to the count OpenBLAS
+// started with (OPENBLAS_NUM_THREADS or OMP_NUM_THREADS, else every core). Asking for more than
+// that (as this did before) woke OpenBLAS workers that then spin in sched_yield on the other
+// core, a fifth of the time of a single-threaded run and the CPU of whatever runs beside it.
+int maxBlasThreads() {
+  using Get = int (*)();
+  static const Get get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  static const int n = get ? std::max(1, get()) : 1;
+  return n;
+}
+
 void setBlasThreads(int n) {
   using Fn = void (*)(int);
   static const Fn fn = reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  static int current = -1;
+  static int current = maxBlasThreads();  // captured before the first change
+  n = std::clamp(n, 1, maxBlasThreads());
   if (fn && n != current) {
     fn(n);
     current = n;
   }
-}
-
-int hardwareThreads() {
-  static const int n = std::max(1u, std::thread::hardware_concurrency());
-  return n;
 }
 
 }  // namespace
@@ -102,7 +107,7 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
     }
   if (!values.empty()) std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
   double beta[2] = {shift, 0.0};
-  setBlasThreads(hardwareThreads());
+  setBlasThreads(maxBlasThreads());
   const int ok = cholmod_factorize_p(m.A, beta, nullptr, 0, m.L, &m.common);
   if (m.common.status == CHOLMOD_NOT_POSDEF || (ok && m.L->minor < m.L->n)) {
     message_ = "tangent matrix not positive definite (column " + std::to_string(m.L->minor) + ")";
