@@ -7,7 +7,7 @@
 #     reach (assembly, Newton, contact, refinement, the CLI's whole run) is reached here by smaller
 #     tests (Indentation.*, ContactKept.*, Refine.*, Cli.CtrlC*, the closed forms on small meshes);
 #  2. the libFuzzer targets (PLY reader, centroid reader, session reader) each run for
-#     TP_FUZZ_SECONDS (default 60) on a copy of their committed seed corpus fuzz/corpus/<target>;
+#     TP_FUZZ_SECONDS (default 60; the three run at once) on a copy of their committed seed corpus fuzz/corpus/<target>;
 #     a crash input is kept in build-asan/fuzz-findings/ and fails the run.
 # Leaks inside system libraries are suppressed by scripts/sanitizers/lsan.supp, which names them.
 set -euo pipefail
@@ -32,17 +32,24 @@ heavy+='|Cli\.DeepIndentation|Cli\.ReferenceSolverGives|Cli\.RefinementAtTheSite
 echo "== sanitizers: the tests under ASan + UBSan (but the slow and the heavy ones)"
 (cd build-asan && ctest --output-on-failure --timeout 900 -j "$(nproc)" -LE slow -E "$heavy")
 
-echo "== fuzzing: ${seconds} s per reader"
+echo "== fuzzing: ${seconds} s per reader, the three at once"
 mkdir -p build-asan/fuzz-findings
-status=0
-for target in ply centroids session; do
+targets=(ply centroids session)
+pids=()
+for target in "${targets[@]}"; do
   work=build-asan/fuzz-corpus/$target
   rm -rf "$work" && mkdir -p "$work" && cp fuzz/corpus/$target/* "$work"/
-  log=build-asan/fuzz-$target.log
   dict=(); [ -f fuzz/$target.dict ] && dict=(-dict=fuzz/$target.dict)
-  if build-asan/bin/fuzz_$target "${dict[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-       -max_len=65536 -print_final_stats=1 -artifact_prefix=build-asan/fuzz-findings/$target- \
-       "$work" >"$log" 2>&1; then
+  build-asan/bin/fuzz_$target "${dict[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -max_len=65536 -print_final_stats=1 -artifact_prefix=build-asan/fuzz-findings/$target- \
+    "$work" >build-asan/fuzz-$target.log 2>&1 &
+  pids+=($!)
+done
+status=0
+for i in "${!targets[@]}"; do
+  target=${targets[$i]}
+  log=build-asan/fuzz-$target.log
+  if wait "${pids[$i]}"; then
     echo "fuzz_$target: $(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}') executions, no finding"
   else
     echo "fuzz_$target: FINDING (see $log and build-asan/fuzz-findings/)"

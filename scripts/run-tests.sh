@@ -15,5 +15,5 @@ bash scripts/build.sh
   fi
 )
 if [ "${TP_SANITIZERS:-1}" != 0 ]; then
-  TP_FUZZ_SECONDS=${TP_FUZZ_SECONDS:-30} bash scripts/run-sanitizers.sh
+  TP_FUZZ_SECONDS=${TP_FUZZ_SECONDS:-20} bash scripts/run-sanitizers.sh
 fi
