@@ -1,5 +1,7 @@
 #include "mechanics/Assembly.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -23,18 +25,40 @@ int SparsePattern::find(int row, int col) const {
 
 void symmetricMultiply(const SparsePattern& pattern, const std::vector<double>& values,
                        const double* v, double* y) {
-  std::fill(y, y + pattern.n, 0.0);
-  for (int j = 0; j < pattern.n; ++j) {
-    const double vj = v[j];
-    double acc = 0;
-    for (int k = pattern.colPtr[j]; k < pattern.colPtr[j + 1]; ++k) {
-      const int i = pattern.rowIdx[k];
-      const double a = values[k];
-      acc += a * v[i];
-      if (i != j) y[i] += a * vj;
+  // Columns [j0, j1) of the upper triangle, accumulated into out: each stored a_ij adds
+  // a_ij v_j to row i and, off the diagonal, a_ij v_i to row j.
+  const auto columns = [&](int j0, int j1, double* out) {
+    for (int j = j0; j < j1; ++j) {
+      const double vj = v[j];
+      double acc = 0;
+      for (int k = pattern.colPtr[j]; k < pattern.colPtr[j + 1]; ++k) {
+        const int i = pattern.rowIdx[k];
+        const double a = values[k];
+        acc += a * v[i];
+        if (i != j) out[i] += a * vj;
+      }
+      out[j] += acc;
     }
-    y[j] += acc;
+  };
+  std::fill(y, y + pattern.n, 0.0);
+  // Two threads when there are two and the matrix is large enough to pay for them: each takes
+  // half of the nonzeros; the second accumulates into its own vector, added at the end.
+  if (pattern.nnz() < 200000 || omp_get_max_threads() < 2 || omp_in_parallel()) {
+    columns(0, pattern.n, y);
+    return;
   }
+  const int half = static_cast<int>(
+      std::lower_bound(pattern.colPtr.begin(), pattern.colPtr.end(), pattern.nnz() / 2) -
+      pattern.colPtr.begin());
+  std::vector<double> second(pattern.n, 0.0);
+#pragma omp parallel num_threads(2)
+  {
+    if (omp_get_thread_num() == 0)
+      columns(0, std::min(half, pattern.n), y);
+    else
+      columns(std::min(half, pattern.n), pattern.n, second.data());
+  }
+  for (int i = 0; i < pattern.n; ++i) y[i] += second[i];
 }
 
 SparsePattern buildPattern(const DofMap& dofs, int vertexCount,

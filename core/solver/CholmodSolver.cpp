@@ -5,6 +5,7 @@
 #include <cholmod.h>
 
 #include <dlfcn.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -93,6 +94,7 @@ void CholmodSolver::analyze(const SparsePattern& pattern) {
     throw std::runtime_error("CHOLMOD: symbolic analysis failed (status " +
                              std::to_string(m.common.status) + ")");
   m.B = cholmod_zeros(n, 1, CHOLMOD_REAL, &m.common);
+  scheduleValid_ = false;
 }
 
 CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, double shift) {
@@ -136,7 +138,126 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (n > 0) std::memcpy(x.data(), m.X->x, sizeof(double) * n);
 }
 
-void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+namespace {
+
+// One supernode's part of L y = b (forward) and of Lᵀ z = y (backward), in single precision.
+// Supernode s holds columns super[s]..super[s+1)-1 as a dense column-major block whose rows are
+// rows[pi[s]..pi[s+1]), the first of which are those columns themselves; its off-diagonal rows
+// belong to its ancestors in the elimination tree.
+struct SupernodalFactor {
+  const float* x;
+  const int *super, *pi, *px, *rows;
+
+  void forward(int s, float* y, Eigen::VectorXf& t) const {
+    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
+    const Eigen::Map<const Eigen::MatrixXf> B(x + px[s], nr, nc);
+    Eigen::Map<Eigen::VectorXf> yk(y + k1, nc);
+    B.topRows(nc).triangularView<Eigen::Lower>().solveInPlace(yk);
+    if (nr > nc) {
+      t.noalias() = B.bottomRows(nr - nc) * yk;
+      const int* r = rows + pi[s] + nc;
+      for (int i = 0; i < nr - nc; ++i) y[r[i]] -= t[i];
+    }
+  }
+  void backward(int s, float* y, Eigen::VectorXf& t) const {
+    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
+    const Eigen::Map<const Eigen::MatrixXf> B(x + px[s], nr, nc);
+    Eigen::Map<Eigen::VectorXf> yk(y + k1, nc);
+    if (nr > nc) {
+      t.resize(nr - nc);
+      const int* r = rows + pi[s] + nc;
+      for (int i = 0; i < nr - nc; ++i) t[i] = y[r[i]];
+      yk.noalias() -= B.bottomRows(nr - nc).transpose() * t;
+    }
+    B.topRows(nc).triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
+  }
+};
+
+}  // namespace
+
+const CholmodSolver::SolveSchedule& CholmodSolver::solveSchedule() {
+  if (scheduleValid_) return schedule_;
+  const cholmod_factor* L = impl_->L;
+  if (!L) throw std::logic_error("CholmodSolver::solveSchedule before analyze");
+  SolveSchedule sc;
+  const int nsuper = L->is_super ? static_cast<int>(L->nsuper) : 0;
+  const int* super = static_cast<const int*>(L->super);
+  const int* pi = static_cast<const int*>(L->pi);
+  const int* rows = static_cast<const int*>(L->s);
+  sc.owner.assign(nsuper, 2);
+  // The supernodal elimination tree: a supernode's parent holds its first off-diagonal row.
+  // Work of a supernode ~ its block's size (each entry is read once per triangular solve).
+  std::vector<int> colSuper(L->n, -1), parent(nsuper, -1);
+  std::vector<double> work(nsuper), subtree(nsuper);
+  std::vector<std::vector<int>> children(nsuper);
+  for (int s = 0; s < nsuper; ++s)
+    for (int k = super[s]; k < super[s + 1]; ++k) colSuper[k] = s;
+  double total = 0;
+  for (int s = 0; s < nsuper; ++s) {
+    const int nc = super[s + 1] - super[s], nr = pi[s + 1] - pi[s];
+    work[s] = static_cast<double>(nr) * nc;
+    total += work[s];
+    if (nr > nc) parent[s] = colSuper[rows[pi[s] + nc]];
+  }
+  std::vector<int> frontier;
+  for (int s = 0; s < nsuper; ++s) {  // children come before their parent in CHOLMOD's order
+    subtree[s] += work[s];
+    if (parent[s] >= 0) {
+      subtree[parent[s]] += subtree[s];
+      children[parent[s]].push_back(s);
+    } else {
+      frontier.push_back(s);
+    }
+  }
+  // Split greedily: assign the frontier's subtrees to two threads (largest first, to the lighter
+  // one); while that is unbalanced, move the largest subtree's root to the serial top and put its
+  // children in the frontier. Keep the split with the smallest estimated time.
+  double best = total, topWork = 0;
+  std::vector<int> bestFrontier, bestBins;
+  for (int round = 0; round < 256 && !frontier.empty(); ++round) {
+    std::sort(frontier.begin(), frontier.end(),
+              [&](int a, int b) { return subtree[a] > subtree[b]; });
+    double bin[2] = {0, 0};
+    std::vector<int> bins(frontier.size());
+    for (size_t i = 0; i < frontier.size(); ++i) {
+      bins[i] = bin[0] <= bin[1] ? 0 : 1;
+      bin[bins[i]] += subtree[frontier[i]];
+    }
+    const double estimate = topWork + std::max(bin[0], bin[1]);
+    if (bin[0] > 0 && bin[1] > 0 && estimate < best) {
+      best = estimate;
+      bestFrontier = frontier;
+      bestBins = bins;
+    }
+    const int h = frontier.front();
+    if (children[h].empty() || std::max(bin[0], bin[1]) <= 0.52 * (bin[0] + bin[1])) break;
+    frontier.erase(frontier.begin());
+    topWork += work[h];
+    frontier.insert(frontier.end(), children[h].begin(), children[h].end());
+  }
+  for (size_t i = 0; i < bestFrontier.size(); ++i) {
+    std::vector<int> stack{bestFrontier[i]};
+    while (!stack.empty()) {
+      const int s = stack.back();
+      stack.pop_back();
+      sc.owner[s] = static_cast<std::uint8_t>(bestBins[i]);
+      stack.insert(stack.end(), children[s].begin(), children[s].end());
+    }
+  }
+  for (int s = 0; s < nsuper; ++s) {
+    sc.supers[sc.owner[s]].push_back(s);
+    if (sc.owner[s] == 0) continue;
+    auto& list = sc.owner[s] == 1 ? sc.rows1 : sc.rowsTop;
+    for (int k = super[s]; k < super[s + 1]; ++k) list.push_back(k);
+  }
+  sc.parallelFraction = total > 0 ? best / total : 1;
+  schedule_ = std::move(sc);
+  scheduleValid_ = true;
+  return schedule_;
+}
+
+void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                         int threads) {
   Impl& m = *impl_;
   if (!m.factored) throw std::logic_error("CholmodSolver::solve without a factorisation");
   const cholmod_factor* L = m.L;
@@ -149,40 +270,45 @@ void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vector
     factorF_.assign(lx, lx + L->xsize);
     factorFValid_ = true;
   }
-  // P A Pᵀ = L Lᵀ with L stored by supernodes: supernode s holds columns super[s]..super[s+1)-1
-  // as a dense column-major block whose rows are s[pi[s]..pi[s+1]), the first of which are those
-  // columns themselves.
+  const SupernodalFactor F{factorF_.data(), static_cast<const int*>(L->super),
+                           static_cast<const int*>(L->pi), static_cast<const int*>(L->px),
+                           static_cast<const int*>(L->s)};
   const int n = static_cast<int>(L->n);
   const int* perm = static_cast<const int*>(L->Perm);
-  const int* super = static_cast<const int*>(L->super);
-  const int* pi = static_cast<const int*>(L->pi);
-  const int* px = static_cast<const int*>(L->px);
-  const int* rows = static_cast<const int*>(L->s);
+  // P A Pᵀ = L Lᵀ: y = P b, then L y' = y, then Lᵀ z = y', x = Pᵀ z.
   Eigen::VectorXf y(n), t;
   for (int k = 0; k < n; ++k) y[k] = static_cast<float>(b[perm[k]]);
   const int nsuper = static_cast<int>(L->nsuper);
-  for (int s = 0; s < nsuper; ++s) {  // L y = P b
-    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
-    const Eigen::Map<const Eigen::MatrixXf> B(factorF_.data() + px[s], nr, nc);
-    auto yk = y.segment(k1, nc);
-    B.topRows(nc).triangularView<Eigen::Lower>().solveInPlace(yk);
-    if (nr > nc) {
-      t.noalias() = B.bottomRows(nr - nc) * yk;
-      const int* r = rows + pi[s] + nc;
-      for (int i = 0; i < nr - nc; ++i) y[r[i]] -= t[i];
+  if (threads <= 0) threads = omp_get_max_threads();
+  if (threads < 2 || omp_in_parallel() || solveSchedule().parallelFraction > 0.8) {
+    for (int s = 0; s < nsuper; ++s) F.forward(s, y.data(), t);
+    for (int s = nsuper - 1; s >= 0; --s) F.backward(s, y.data(), t);
+  } else {
+    // Forward: the two threads' subtrees at once — thread 0 in y, thread 1 in its own copy y1
+    // whose top rows start at 0 and collect thread 1's updates to them — then the top serially.
+    // Backward: the top first, then the subtrees at once (each reads the top and its own rows).
+    const SolveSchedule& sc = schedule_;
+    Eigen::VectorXf y1 = y;
+    for (int r : sc.rowsTop) y1[r] = 0;
+#pragma omp parallel num_threads(2)
+    {
+      Eigen::VectorXf tt;
+      if (omp_get_thread_num() == 0)
+        for (int s : sc.supers[0]) F.forward(s, y.data(), tt);
+      else
+        for (int s : sc.supers[1]) F.forward(s, y1.data(), tt);
     }
-  }
-  for (int s = nsuper - 1; s >= 0; --s) {  // Lᵀ z = y
-    const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
-    const Eigen::Map<const Eigen::MatrixXf> B(factorF_.data() + px[s], nr, nc);
-    auto yk = y.segment(k1, nc);
-    if (nr > nc) {
-      t.resize(nr - nc);
-      const int* r = rows + pi[s] + nc;
-      for (int i = 0; i < nr - nc; ++i) t[i] = y[r[i]];
-      yk.noalias() -= B.bottomRows(nr - nc).transpose() * t;
+    for (int r : sc.rows1) y[r] = y1[r];
+    for (int r : sc.rowsTop) y[r] += y1[r];
+    for (int s : sc.supers[2]) F.forward(s, y.data(), t);
+    for (auto it = sc.supers[2].rbegin(); it != sc.supers[2].rend(); ++it)
+      F.backward(*it, y.data(), t);
+#pragma omp parallel num_threads(2)
+    {
+      Eigen::VectorXf tt;
+      const auto& mine = sc.supers[omp_get_thread_num() == 0 ? 0 : 1];
+      for (auto it = mine.rbegin(); it != mine.rend(); ++it) F.backward(*it, y.data(), tt);
     }
-    B.topRows(nc).triangularView<Eigen::Lower>().transpose().solveInPlace(yk);
   }
   x.resize(n);
   for (int k = 0; k < n; ++k) x[perm[k]] = y[k];

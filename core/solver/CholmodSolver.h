@@ -4,6 +4,7 @@
 // factorisations, and checks the values are finite before factorising.
 // (geometry-central's stateful solver and libigl's precompute/solve split are the model.)
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -32,8 +33,21 @@ class CholmodSolver {
   /// Solves A x = b with the last successful factorisation.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   /// The same with a single-precision copy of the factor: about half the memory traffic of
-  /// solve(), accurate to ~1e-6 relative. For preconditioning.
-  void solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// solve(), accurate to ~1e-6 relative. For preconditioning. With two or more OpenMP threads
+  /// the two largest independent subtrees of the supernodal elimination tree are solved at once
+  /// (see SolveSchedule); `threads` = 1 forces the serial order, 0 takes omp_get_max_threads().
+  void solveSinglePrecision(const Eigen::VectorXd& b, Eigen::VectorXd& x, int threads = 0);
+
+  /// How solveSinglePrecision splits the supernodes: owner 0 or 1 for those in one of the two
+  /// threads' subtrees, 2 for the rest (the separators above them, solved by one thread), and the
+  /// estimated time of the split relative to the serial solve (1 when not split).
+  struct SolveSchedule {
+    std::vector<std::uint8_t> owner;          // per supernode
+    std::vector<int> supers[3];               // each owner's supernodes, in increasing order
+    std::vector<int> rows1, rowsTop;          // the columns of owner 1's and of the top supernodes
+    double parallelFraction = 1;              // (top work + larger thread's work) / total work
+  };
+  const SolveSchedule& solveSchedule();
 
   /// True when a factorisation is held (solve() may be called).
   bool factored() const;
@@ -46,6 +60,8 @@ class CholmodSolver {
   std::unique_ptr<Impl> impl_;
   std::vector<float> factorF_;  // the supernodal values of L in single precision
   bool factorFValid_ = false;
+  SolveSchedule schedule_;      // of the analysed structure
+  bool scheduleValid_ = false;
   std::string message_;
 };
 
