@@ -47,6 +47,9 @@ struct UsageError : std::runtime_error {
 // iteration and the points done are kept (printed and written); a second one stops at once.
 // Exit status 130, as a shell reports an interrupted command.
 constexpr int kExitInterrupted = 130;
+// Exit status 4: an output could not be written (refused before any work when it is read-only or
+// its folder is missing, or failed at the end; nothing is replaced either way).
+constexpr int kExitCannotWrite = 4;
 std::atomic<bool> interrupted{false};
 static_assert(std::atomic<bool>::is_always_lock_free);  // set from a signal handler
 
@@ -97,11 +100,7 @@ void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std
       if (!outputs[j].empty() && same(outputs[i], outputs[j]))
         throw UsageError("two outputs are the same file: '" + outputs[j] + "' and '" +
                          outputs[i] + "'");
-    try {
-      checkWritable(outputs[i]);
-    } catch (const std::runtime_error& e) {
-      throw UsageError(e.what());
-    }
+    checkWritable(outputs[i]);  // WriteError: exit 4, before any work
   }
 }
 
@@ -569,6 +568,9 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
+  } catch (const WriteError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitCannotWrite;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

@@ -42,7 +42,7 @@ fs::path temporarySibling(const fs::path& target) {
     std::error_code ec;
     if (!fs::exists(p, ec)) return p;
   }
-  throw std::runtime_error("cannot write '" + target.string() +
+  throw WriteError("cannot write '" + target.string() +
                            "': no free temporary file name in its directory");
 }
 
@@ -103,7 +103,7 @@ struct Pending {
 };
 
 fs::path resolveTarget(const std::string& path) {
-  if (path.empty()) throw std::runtime_error("cannot write a file with an empty name");
+  if (path.empty()) throw WriteError("cannot write a file with an empty name");
   fs::path target(path);
   std::error_code ec;
   // Replace the file a symbolic link points to, not the link.
@@ -112,7 +112,7 @@ fs::path resolveTarget(const std::string& path) {
     if (!ec) target = resolved;
   }
   if (fs::is_directory(target, ec))
-    throw std::runtime_error("cannot write '" + path + "': it is a directory");
+    throw WriteError("cannot write '" + path + "': it is a directory");
   return target;
 }
 
@@ -127,7 +127,7 @@ Pending writeTemporary(const std::string& path, const std::function<void(std::os
     std::error_code ignored;
     fs::remove(p.tmp, ignored);
     unregisterPending(p.slot);
-    return std::runtime_error("cannot write '" + path + "': " + reason);
+    return WriteError("cannot write '" + path + "': " + reason);
   };
 
   errno = 0;
@@ -172,7 +172,7 @@ void commit(const Pending& p) {
   fs::rename(p.tmp, p.target, ec);
   if (ec) {
     discard(p);
-    throw std::runtime_error("cannot write '" + p.path +
+    throw WriteError("cannot write '" + p.path +
                              "': cannot rename temporary file into place: " + ec.message());
   }
   unregisterPending(p.slot);
@@ -185,7 +185,7 @@ void checkWritable(const std::string& path) {
   std::error_code ec;
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
-    throw std::runtime_error("cannot write '" + path + "': the folder '" + dir.string() +
+    throw WriteError("cannot write '" + path + "': the folder '" + dir.string() +
                              "' does not exist");
   // Read-only by its mode bits too: root passes access(), but a file nobody may write is one
   // its owner meant to keep.
@@ -194,9 +194,9 @@ void checkWritable(const std::string& path) {
        (fs::status(target, ec).permissions() &
         (fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write)) ==
            fs::perms::none))
-    throw std::runtime_error("cannot write '" + path + "': the file is read-only");
+    throw WriteError("cannot write '" + path + "': the file is read-only");
   if (::access(dir.c_str(), W_OK) != 0)
-    throw std::runtime_error("cannot write '" + path + "': the folder '" + dir.string() +
+    throw WriteError("cannot write '" + path + "': the folder '" + dir.string() +
                              "' is not writable");
 }
 

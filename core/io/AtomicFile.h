@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -13,8 +14,14 @@
 
 namespace tp {
 
+/// A file that could not be written (the message names it and the reason). The command line
+/// exits with status 4 for it, apart from bad input (2).
+struct WriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// Writes `path` atomically with the text produced by `write` (the stream is opened in binary
-/// mode, so "\n" stays "\n"). Throws std::runtime_error naming the path and the reason (the
+/// mode, so "\n" stays "\n"). Throws WriteError naming the path and the reason (the
 /// system's error text) if the temporary file cannot be created, written, flushed or renamed.
 /// An exception thrown by `write` itself is passed on unchanged after the temporary file has been
 /// removed. If `path` is a symbolic link, the file it points to is replaced and the link kept.
@@ -28,7 +35,7 @@ void writeFileAtomically(const std::string& path, std::string_view contents);
 void writeFilesAtomically(
     const std::vector<std::pair<std::string, std::function<void(std::ostream&)>>>& files);
 
-/// Throws std::runtime_error naming the path unless it can be written: its folder exists and is
+/// Throws WriteError naming the path unless it can be written: its folder exists and is
 /// writable, and an existing file is not read-only (a read-only result is never replaced).
 void checkWritable(const std::string& path);
 
