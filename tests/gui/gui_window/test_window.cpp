@@ -429,7 +429,12 @@ class WindowTest : public QObject {
     sendMouse(view_, QEvent::MouseButtonPress, start, Qt::RightButton, Qt::RightButton);
     // Down to 1 µm and back, repeatedly, at 60 mouse events per second for 20 s.
     int i = 0;
+    double travelled = 0, lastDepth = 0, deepest = 0;
     while (timer.elapsed() < 20000) {
+      const double d = c_->latest().point ? c_->latest().point->depth : lastDepth;  // as shown
+      travelled += std::abs(d - lastDepth);
+      deepest = std::max(deepest, d);
+      lastDepth = d;
       const int phase = i++ % 200;
       const int dy = phase < 100 ? phase : 200 - phase;
       sendMouse(view_, QEvent::MouseMove, start + QPoint(0, dy), Qt::NoButton, Qt::RightButton);
@@ -439,8 +444,9 @@ class WindowTest : public QObject {
     const double s = timer.nsecsElapsed() / 1e9;
     const int frames = view_->frameCount() - frames0, snaps = c_->snapshotCount() - snaps0;
     qInfo(
-        "default meristem, probe drag for %.1f s: %d frames (%.1f fps), %d equilibria (%.2f per s)",
-        s, frames, frames / s, snaps, snaps / s);
+        "default meristem, probe drag for %.1f s: %d frames (%.1f fps), %d equilibria (%.2f per s); "
+        "the probe shown travelled %.2f um, deepest %.2f um",
+        s, frames, frames / s, snaps, snaps / s, travelled, deepest);
     waitIdle(300000);
     // Turning the tissue (left drag) for 5 s: every mouse event asks for a frame.
     const int frames1 = view_->frameCount();
