@@ -9,15 +9,16 @@
 #include <vector>
 
 #include "mechanics/Assembly.h"
-#include "mechanics/Bending.h"
-#include "mechanics/Contact.h"
+#include "mechanics/EnergyTerm.h"
 #include "mechanics/Material.h"
-#include "mechanics/Membrane.h"
-#include "mechanics/PlateBending.h"
+#include "mechanics/terms/ContactTerm.h"
 #include "mesh/CellComplex.h"
 #include "mesh/Topology.h"
 
 namespace tp {
+
+class PressureTerm;
+class PointForceTerm;
 
 struct EnergyParts {
   double membrane = 0, bending = 0, pressure = 0, contact = 0, external = 0;
@@ -25,6 +26,7 @@ struct EnergyParts {
   /// pressure term): the total is only known to about 1e-15 of this (round-off scale).
   double magnitude = 0;
   double total() const { return membrane + bending + pressure + contact + external; }
+  double& operator[](EnergyPart part);
 };
 
 /// One evaluation of the model at positions x.
@@ -42,63 +44,72 @@ struct Evaluation {
   int contactTriangles = 0;           // triangles touched by the probe
 };
 
-struct Probe {
-  Vec3 center = Vec3::Zero();  // µm
-  double radius = 1.0;         // µm
-};
-
+/// The sum of the registered energy terms (mechanics/EnergyTerm.h, mechanics/terms/Registry.cpp)
+/// that apply to the material, over one tissue.
 class Model {
  public:
   Model(std::shared_ptr<const CellComplex> cc, const Material& material);
+  ~Model();
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
 
   const CellComplex& complex() const { return *cc_; }
   std::shared_ptr<const CellComplex> complexPtr() const { return cc_; }
   const Topology& topology() const { return topo_; }
   const Material& material() const { return material_; }
+  /// The terms summed, in evaluation order.
+  const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
 
   /// Turgor pressure (MPa) of every cell, or one value for all cells.
   void setCellPressures(std::vector<double> pressures);
   void setUniformPressure(double p);
-  const std::vector<double>& cellPressures() const { return cellPressure_; }
+  const std::vector<double>& cellPressures() const;
 
   /// Clamped position components (3V flags); by default those of the complex's clamped vertices.
   void setFixedDofs(const std::vector<std::uint8_t>& fixedDof);
   const DofMap& dofs() const { return dofs_; }
   /// The tangent matrix's pattern: the free position components (dofs().freeCount(), in the
-  /// order of dofs().freeDofs()), then the edge unknowns of Koiter bending (eliminated from the
-  /// energy, see mechanics/PlateBending.h). A Newton step solves with the whole matrix, a zero
-  /// right-hand side for the edge unknowns, and keeps the position part.
+  /// order of dofs().freeDofs()), then the terms' own unknowns (the edge unknowns of Koiter
+  /// bending, eliminated from the energy, see mechanics/PlateBending.h). A Newton step solves
+  /// with the whole matrix, a zero right-hand side for the terms' unknowns, and keeps the
+  /// position part.
   const SparsePattern& pattern() const { return pattern_; }
 
   /// Point loads (µN) on vertices: W = −Σ f·x.
-  void setPointForces(std::vector<std::pair<int, Vec3>> forces) { pointForces_ = std::move(forces); }
+  void setPointForces(std::vector<std::pair<int, Vec3>> forces);
 
-  void setProbe(const Probe& probe);
-  void clearProbe() { probe_.reset(); }
-  const std::optional<Probe>& probe() const { return probe_; }
-  void setContactLaw(const ContactLaw& law) { contact_ = law; }
-  const ContactLaw& contactLaw() const { return contact_; }
-  /// Replace each contact element's Hessian by its positive semi-definite part (for solvers;
-  /// off by default so that evaluate() returns the exact Hessian).
-  void setProjectContactHessian(bool on) { projectContact_ = on; }
+  void setProbe(const Probe& probe) { contact_->setProbe(probe); }
+  void clearProbe() { contact_->clearProbe(); }
+  const std::optional<Probe>& probe() const { return contact_->probe(); }
+  void setContactLaw(const ContactLaw& law) { contact_->setLaw(law); }
+  const ContactLaw& contactLaw() const { return contact_->law(); }
 
   /// Contact that cannot be lost: the probe's centre must stay at least this far (µm, half the
   /// probe's radius) from every outer triangle. The contact energy is a penalty on the unsigned
   /// distance, so a centre that crossed a wall would be pushed on through it; a state that keeps
   /// the clearance cannot have tunnelled, and solvers keep it at every step (contactStepBound).
-  double contactClearance() const { return probe_ ? 0.5 * probe_->radius : 0.0; }
+  double contactClearance() const { return contact_->clearance(); }
   /// The smallest distance (µm) from the probe's centre to an outer triangle at positions x
   /// (infinity without a probe).
-  double probeDistance(const Points& x) const;
+  double probeDistance(const Points& x) const { return contact_->probeDistance(x); }
   /// The largest α in [0, 1] for which moving the vertices by α·dx and the probe's centre by
   /// α·dp keeps the clearance all along the way, by conservative advancement: the distance from a
   /// point to a triangle shrinks at most as fast as the largest relative speed of its vertices
   /// (Mirtich, "Impulse-based dynamic simulation", 1996, §2.4; the bound IPC's additive CCD uses).
   /// 0 when x itself is within the clearance.
-  double contactStepBound(const Points& x, const Points& dx, const Vec3& dp) const;
+  double contactStepBound(const Points& x, const Points& dx, const Vec3& dp) const {
+    return contact_->stepBound(x, dx, dp);
+  }
 
-  double energy(const Points& x, EnergyParts* parts = nullptr) const;
-  void evaluate(const Points& x, Evaluation& out, bool withHessian) const;
+  /// The energy at x (every term, or options.onlyTerm), by parts.
+  double energy(const Points& x, EnergyParts* parts = nullptr, int onlyTerm = -1) const;
+  /// Energy, gradient, load gradient, the probe's derivatives, and with options.hessian the
+  /// tangent's values over pattern().
+  void evaluate(const Points& x, Evaluation& out, const EvalOptions& options) const;
+  /// The exact tangent (no projection) when withHessian.
+  void evaluate(const Points& x, Evaluation& out, bool withHessian) const {
+    evaluate(x, out, EvalOptions{.hessian = withHessian});
+  }
 
   /// Membrane stress of every triangle at positions x.
   std::vector<MembraneStress> triangleStresses(const Points& x) const;
@@ -110,46 +121,20 @@ class Model {
   double meanEdgeLength() const { return meanEdge_; }
 
  private:
-  void rebuildPressureLoads();
-  double evaluatePlate(const Points& x, double* grad, double* values, bool withHessian) const;
-  static constexpr int kMaxPlateArity = 6;  // a triangle and one wing per edge
-  template <class Fn>
-  void forContactTriangles(const Points& x, Fn&& fn) const;
-
   std::shared_ptr<const CellComplex> cc_;
   Topology topo_;
   Material material_;
   double meanEdge_ = 1.0;
-  double membraneMagnitude_ = 0;  // Σ 2(μ + λ*) h A₀: the size of the terms Ψ is the difference of
-
-  std::vector<MembraneRest> membraneRest_;
-  std::vector<HingeRest> hingeRest_;
-  std::vector<LinearBendingRest> linearRest_;
-  PlateBending plate_;  // Koiter bending (empty for the other models)
-  // Koiter elements: each one's unknowns (three per vertex, then its edge unknowns, −1 where
-  // prescribed) and the value-array positions of its local pairs i ≤ j, flattened.
-  std::vector<int> plateUnknowns_, plateUnknownBegin_, plateSlots_, plateSlotBegin_;
-  std::vector<int> pairVerts_;
-  SlotTable pairSlots_;
-  // Per-evaluation scratch of the Koiter passes: each pair's angle and its gradient, the edge
-  // unknowns, each element's B Δs.
-  mutable std::vector<double> pairTheta_;
-  mutable std::vector<Vec12> pairGrad_;
-  mutable Eigen::VectorXd platePhi_;
-  mutable std::vector<Eigen::Vector3d> plateY_;
-  std::vector<double> cellPressure_;
-  std::vector<std::pair<int, double>> pressureLoads_;  // (triangle, Δp) with Δp ≠ 0
-  std::vector<std::pair<int, Vec3>> pointForces_;
-  std::optional<Probe> probe_;
-  ContactLaw contact_;
-  bool projectContact_ = false;
-
-  std::vector<int> triangleVerts_, hingeVerts_;  // flattened element vertex lists
+  std::vector<std::unique_ptr<EnergyTerm>> terms_;
+  std::vector<int> firstUnknown_;  // per term: the index of its first own unknown
+  PressureTerm* pressure_ = nullptr;
+  ContactTerm* contact_ = nullptr;
+  PointForceTerm* forces_ = nullptr;
   // Per-thread accumulators of evaluate() (reused; a Model is evaluated by one caller at a time).
   mutable std::vector<std::vector<double>> threadGrad_, threadVals_;
   DofMap dofs_;
   SparsePattern pattern_;
-  SlotTable triangleSlots_, hingeSlots_;
+  MeshLayout layout_;
 };
 
 }  // namespace tp

@@ -27,7 +27,6 @@ SolveReport ImplicitEulerSolver::solve(Points& x, ForceControl* fc) {
                   "linear or none), not Koiter bending";
     return rep;
   }
-  model_.setProjectContactHessian(options_.projectContactHessian);
   const DofMap& dofs = model_.dofs();
   const SparsePattern& pattern = model_.pattern();
   const int n = dofs.freeCount();
@@ -51,7 +50,8 @@ SolveReport ImplicitEulerSolver::solve(Points& x, ForceControl* fc) {
   const auto start = Clock::now();
   for (int step = 0;; ++step) {
     auto tick = Clock::now();
-    model_.evaluate(x, ev_, true);
+    model_.evaluate(x, ev_,
+                    EvalOptions{.hessian = true, .projectContact = options_.projectContactHessian});
     totals_.assemblySeconds += since(tick);
     double load2 = 0;
     for (int i = 0; i < n; ++i) {

@@ -156,7 +156,6 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   const int n = dofs.freeCount();
   const auto& freeDofs = dofs.freeDofs();
   if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
-  model_.setProjectContactHessian(false);  // exact tangents; see the factorisation below
   if (analyzedFor_ != &pattern || analyzedNnz_ != pattern.nnz()) {
     chol_.analyze(pattern);
     analyzedFor_ = &pattern;
@@ -198,14 +197,15 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   // Evaluates the model at (x, probe travel); the Hessian only when a Newton direction is needed
   // (a gradient costs about a tenth of a full assembly, and most load steps converge in one
   // iteration, so the state they end in never needs its Hessian).
-  auto evaluateAt = [&](const Points& at, double trav, bool withHessian, Evaluation& e) {
+  auto evaluateAt = [&](const Points& at, double trav, bool withHessian, Evaluation& e,
+                        bool projectContact = false) {
     if (fc) {
       Probe p = *model_.probe();
       p.center = fc->origin + trav * fc->axis;
       model_.setProbe(p);
     }
     const auto tick = Clock::now();
-    model_.evaluate(at, e, withHessian);
+    model_.evaluate(at, e, EvalOptions{.hessian = withHessian, .projectContact = projectContact});
     (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
   };
   // Energy (with the work of the applied force), residual and load scale of an evaluation.
@@ -285,9 +285,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     // at the price of a linear rate in the contact's curvature term, which is small).
     const bool projectFirst = options_.projectContactHessian && (it == 0 || projectContact);
     if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0)) {
-      model_.setProjectContactHessian(projectFirst);
-      evaluateAt(x, travel, true, ev_);
-      model_.setProjectContactHessian(false);
+      evaluateAt(x, travel, true, ev_, projectFirst);
     }
     auto tick = Clock::now();
 
@@ -332,9 +330,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
         // The contact Hessian's positive part, for this iteration (see factorizeTangent) and
         // the rest of this solve.
         projectContact = true;
-        model_.setProjectContactHessian(true);
-        evaluateAt(x, travel, true, ev_);
-        model_.setProjectContactHessian(false);
+        evaluateAt(x, travel, true, ev_, true);
         if (fc)
           for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
       };

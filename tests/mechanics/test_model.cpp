@@ -7,59 +7,18 @@
 
 #include "mechanics/Model.h"
 #include "support/FiniteDifference.h"
+#include "support/ModelDerivatives.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
 
 namespace {
 
-Eigen::MatrixXd denseHessian(const Model& m, const std::vector<double>& values) {
-  const SparsePattern& p = m.pattern();
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(p.n, p.n);
-  for (int c = 0; c < p.n; ++c)
-    for (int k = p.colPtr[c]; k < p.colPtr[c + 1]; ++k) {
-      H(p.rowIdx[k], c) = values[k];
-      H(c, p.rowIdx[k]) = values[k];
-    }
-  return H;
-}
-
-// Positions ⇄ free unknowns.
-Eigen::VectorXd freeVector(const Model& m, const Eigen::VectorXd& full) {
-  Eigen::VectorXd u(m.dofs().freeCount());
-  for (int i = 0; i < u.size(); ++i) u[i] = full[m.dofs().freeDofs()[i]];
-  return u;
-}
-
-Points withFree(const Model& m, const Points& base, const Eigen::VectorXd& u) {
-  Points x = base;
-  for (int i = 0; i < u.size(); ++i) x.data()[m.dofs().freeDofs()[i]] = u[i];
-  return x;
-}
-
 void checkModelDerivatives(Model& m, const Points& x0, const std::string& what) {
-  Evaluation ev;
-  m.evaluate(x0, ev, true);
-  const Eigen::VectorXd u0 = freeVector(m, Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size()));
-  const auto energy = [&](const Eigen::VectorXd& u) { return m.energy(withFree(m, x0, u)); };
-  const auto gradient = [&](const Eigen::VectorXd& u) {
-    Evaluation e;
-    m.evaluate(withFree(m, x0, u), e, false);
-    return freeVector(m, e.gradient);
-  };
-  EXPECT_NEAR(ev.energy.total(), m.energy(x0), 1e-12 * (1 + std::abs(m.energy(x0)))) << what;
-  const Eigen::VectorXd g = freeVector(m, ev.gradient);
-  // Koiter bending carries edge unknowns after the positions (Model::pattern()); the energy is
-  // minimised over them, so its Hessian in the positions is the Schur complement.
-  const Eigen::MatrixXd Hall = denseHessian(m, ev.hessian);
-  const int nf = m.dofs().freeCount(), na = m.pattern().n - nf;
-  Eigen::MatrixXd H = Hall.topLeftCorner(nf, nf);
-  if (na > 0)
-    H -= Hall.topRightCorner(nf, na) *
-         Hall.bottomRightCorner(na, na).ldlt().solve(Hall.bottomLeftCorner(na, nf));
-  const double h = 1e-6 * m.meanEdgeLength();
-  EXPECT_LT(test::relError(g, test::fdGradient(energy, u0, h)), 1e-6) << what;
-  EXPECT_LT(test::relError(H, test::fdJacobian(gradient, u0, h)), 1e-5) << what;
+  const test::DerivativeErrors e = test::modelDerivativeErrors(m, x0, 1e-6 * m.meanEdgeLength());
+  EXPECT_LT(e.energy, 1e-12) << what;
+  EXPECT_LT(e.gradient, 1e-6) << what;
+  EXPECT_LT(e.hessian, 1e-5) << what;
 }
 
 Points perturbed(const Points& x, double amp, unsigned seed, const std::vector<std::uint8_t>& fixed) {

@@ -1,0 +1,194 @@
+// Koiter (Kirchhoff–Love) plate bending with the wall's ν, rotation-free triangles with edge
+// unknowns (mechanics/PlateBending.h): the default bending model. Units: µm, µN·µm, pJ.
+#include <stdexcept>
+#include <vector>
+
+#include "mechanics/EnergyTerm.h"
+#include "mechanics/Bending.h"
+#include "mechanics/PlateBending.h"
+#include "mechanics/terms/Terms.h"
+
+namespace tp {
+
+namespace {
+
+class KoiterTerm final : public EnergyTerm {
+ public:
+  static constexpr int kMaxArity = 6;  // a triangle and one wing per edge
+
+  explicit KoiterTerm(const TermContext& c)
+      : cc_(c.complex),
+        plate_(buildPlateBending(c.complex, c.topology, c.material.bendingRigidity(),
+                                 c.material.poissonRatio, c.material.junctions)) {
+    if (plate_.maxArity > kMaxArity)  // each edge has one pair at most (PlateBending.cpp)
+      throw std::logic_error("Koiter bending: an element with more than one wing per edge");
+    for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
+  }
+  std::string name() const override { return "Koiter bending"; }
+  EnergyPart part() const override { return EnergyPart::Bending; }
+  bool threaded() const override { return true; }
+  int ownUnknowns() const override { return plate_.edgeUnknowns; }
+
+  // Each element couples its vertices' free components and its edge unknowns.
+  void couplings(const MeshLayout& layout, int first, Couplings& c) override {
+    const DofMap& dofs = *layout.dofs;
+    const int T = cc_.triangleCount();
+    unknowns_.clear();
+    unknownBegin_.assign(1, 0);
+    for (int t = 0; t < T; ++t) {
+      const auto& el = plate_.elements[t];
+      if (el.refBegin[3] > el.refBegin[0] || el.edgeUnknown[0] >= 0 || el.edgeUnknown[1] >= 0 ||
+          el.edgeUnknown[2] >= 0) {
+        for (int v : el.vertices)
+          for (int k = 0; k < 3; ++k) unknowns_.push_back(dofs.index(3 * v + k));
+        for (int k = 0; k < 3; ++k)
+          if (el.edgeUnknown[k] >= 0) unknowns_.push_back(first + el.edgeUnknown[k]);
+      }
+      unknownBegin_.push_back(static_cast<int>(unknowns_.size()));
+    }
+    for (int t = 0; t < T; ++t)
+      if (unknownBegin_[t + 1] > unknownBegin_[t])
+        c.unknownElements.emplace_back(unknowns_.data() + unknownBegin_[t],
+                                       unknownBegin_[t + 1] - unknownBegin_[t]);
+  }
+
+  void bind(const MeshLayout& layout, int) override {
+    const SparsePattern& pattern = *layout.pattern;
+    pairSlots_ = SlotTable(pattern, *layout.dofs, 4, pairVerts_);  // a pair lies inside its elements
+    slots_.clear();
+    slotBegin_.assign(1, 0);
+    const int T = cc_.triangleCount();
+    for (int t = 0; t < T; ++t) {
+      const int* u = unknowns_.data() + unknownBegin_[t];
+      const int m = unknownBegin_[t + 1] - unknownBegin_[t];
+      for (int i = 0; i < m; ++i)
+        for (int j = i; j < m; ++j) {
+          if (u[i] < 0 || u[j] < 0) {
+            slots_.push_back(-1);
+            continue;
+          }
+          const int pos = pattern.find(std::min(u[i], u[j]), std::max(u[i], u[j]));
+          if (pos < 0) throw std::logic_error("Koiter element entry missing from the pattern");
+          slots_.push_back(pos);
+        }
+      slotBegin_.push_back(static_cast<int>(slots_.size()));
+    }
+  }
+
+  // Four passes, every thread of the model's parallel region taking part: (1) each pair's
+  // dihedral angle and its gradient; (2) the edge unknowns that minimise the energy for those
+  // angles (one solve with the factorised A, mechanics/PlateBending.h); (3) each element's
+  // energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k (y = B Δs; the edge unknowns' part is zero at the
+  // minimum) and the matrix Gᵀ B G over its positions and edge unknowns, G = ∂Δs/∂(x, φ); (4) the
+  // curvature part, each pair's Σ (coeff · y_k) ∇²θ gathered from the elements that use it.
+  double evaluate(const Points& x, const EvalOptions& o, TermSink& sink) const override {
+    const int P = static_cast<int>(plate_.pairs.size());
+    const int T = static_cast<int>(plate_.elements.size());
+#pragma omp single
+    {
+      pairTheta_.resize(P);
+      pairGrad_.resize(P);
+      plateY_.assign(T, Eigen::Vector3d::Zero());
+    }
+#pragma omp for schedule(static)
+    for (int p = 0; p < P; ++p) {
+      const auto& pv = plate_.pairs[p].v;
+      pairTheta_[p] = dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]),
+                                    &pairGrad_[p], nullptr);
+    }
+#pragma omp single
+    phi_ = plateEdgeRotations(plate_, pairTheta_);
+    double energy = 0;
+    constexpr int kMax = 3 * kMaxArity + 3;
+    using LocalGrads = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kMax, 3>;
+    double* g = sink.gradient;
+    double* v = sink.hessian;
+#pragma omp for schedule(static)
+    for (int t = 0; t < T; ++t) {
+      const int begin = unknownBegin_[t], m = unknownBegin_[t + 1] - begin;
+      if (m == 0) continue;
+      const auto& el = plate_.elements[t];
+      Eigen::Vector3d ds;
+      energy += plateElementEnergy(plate_, t, pairTheta_, phi_, &ds);
+      const Eigen::Vector3d y = el.B * ds;
+      plateY_[t] = y;
+      const int mx = 3 * static_cast<int>(el.vertices.size());
+      LocalGrads G = LocalGrads::Zero(m, 3);  // ∂Δs_k/∂(local unknowns)
+      int aux = mx;
+      for (int k = 0; k < 3; ++k) {
+        for (int r = el.refBegin[k]; r < el.refBegin[k + 1]; ++r) {
+          const auto& ref = plate_.refs[r];
+          const Vec12& gp = pairGrad_[ref.pair];
+          for (int i = 0; i < 4; ++i) G.block<3, 1>(3 * ref.local[i], k) += ref.coeff * gp.segment<3>(3 * i);
+        }
+        if (el.edgeUnknown[k] >= 0) G(aux++, k) = el.edgeSign[k];
+      }
+      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1> ge = G.topRows(mx).lazyProduct(y);
+      for (int i = 0; i < mx; ++i) g[3 * el.vertices[i / 3] + i % 3] += ge[i];
+      if (!o.hessian) continue;
+      // G B Gᵀ, upper triangle only, straight into the values (no small-matrix product kernels).
+      LocalGrads GB(m, 3);
+      GB.noalias() = G.lazyProduct(el.B);
+      const int* slots = slots_.data() + slotBegin_[t];
+      int s = 0;
+      for (int i = 0; i < m; ++i)
+        for (int j = i; j < m; ++j, ++s)
+          if (slots[s] >= 0)
+            v[slots[s]] += GB(i, 0) * G(j, 0) + GB(i, 1) * G(j, 1) + GB(i, 2) * G(j, 2);
+    }
+    if (!o.hessian) return energy;
+#pragma omp for schedule(static) nowait
+    for (int p = 0; p < P; ++p) {
+      double mu = 0;
+      for (const auto& u : plate_.pairUses[p]) mu += u.coeff * plateY_[u.element](u.edge);
+      if (mu == 0.0) continue;
+      const auto& pv = plate_.pairs[p].v;
+      Vec12 gp;
+      Mat12 Hp;
+      dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]), &gp, &Hp);
+      const int* slots = pairSlots_.element(p);
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j) {
+          const int sl = slots[i * 12 + j];
+          if (sl >= 0) v[sl] += mu * Hp(i, j);
+        }
+    }
+    return energy;
+  }
+
+  double energy(const Points& x, double& magnitude) const override {
+    const double e = plateBendingEnergy(plate_, x);
+    magnitude += std::abs(e);
+    return e;
+  }
+  void readOut(const Points& x, TriangleReadout& r) const override {
+    if (!r.bendingEnergy) return;
+    std::vector<double> e(cc_.triangleCount(), 0.0);
+    plateBendingEnergy(plate_, x, &e);
+    for (size_t t = 0; t < e.size(); ++t) (*r.bendingEnergy)[t] += e[t];
+  }
+
+ private:
+  const CellComplex& cc_;
+  PlateBending plate_;
+  std::vector<int> pairVerts_;
+  // Each element's unknowns (three per vertex, then its edge unknowns, −1 where prescribed) and
+  // the value-array positions of its local pairs i ≤ j, flattened.
+  std::vector<int> unknowns_, unknownBegin_, slots_, slotBegin_;
+  SlotTable pairSlots_;
+  // Per-evaluation scratch: each pair's angle and its gradient, the edge unknowns, each
+  // element's B Δs.
+  mutable std::vector<double> pairTheta_;
+  mutable std::vector<Vec12> pairGrad_;
+  mutable Eigen::VectorXd phi_;
+  mutable std::vector<Eigen::Vector3d> plateY_;
+};
+
+}  // namespace
+
+std::unique_ptr<EnergyTerm> makeKoiterTerm(const TermContext& c) {
+  if (c.material.bending != BendingModel::Koiter) return nullptr;
+  return std::make_unique<KoiterTerm>(c);
+}
+
+}  // namespace tp
