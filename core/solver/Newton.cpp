@@ -149,111 +149,87 @@ SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {
   return rep;
 }
 
-SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
+// One solve's state, shared by the named steps of an iteration.
+struct StaticSolver::Run {
+  Run(Points& x_, ForceControl* fc_, const Model& model)
+      : x(x_), fc(fc_), dofs(model.dofs()), pattern(model.pattern()), n(dofs.freeCount()),
+        nAll(pattern.n), freeDofs(dofs.freeDofs()), x0(x_), travel0(fc_ ? fc_->travel : 0.0),
+        travel(travel0), xt(x_) {}
+  Points& x;
+  ForceControl* fc;
   SolveReport rep;
-  const DofMap& dofs = model_.dofs();
-  const SparsePattern& pattern = model_.pattern();
-  const int n = dofs.freeCount();
-  const auto& freeDofs = dofs.freeDofs();
+  const DofMap& dofs;
+  const SparsePattern& pattern;
+  // Vectors span the whole pattern: the free position components, then any own unknowns of the
+  // terms (Model::pattern()), which take a zero right-hand side; only the position part of a
+  // solution moves the tissue.
+  const int n, nAll;
+  const std::vector<int>& freeDofs;
+  std::vector<int> diagPos;  // of each unknown's diagonal entry in the values
+  const Points x0;
+  const double travel0;
+  double travel;
+  double stiffScale = 0, floor = 0, noiseFloor = 0, maxProbeStep = 0;
+  Eigen::VectorXd g, dx, z2, b;  // residual, Newton step, K⁻¹b, b = ∂²W/∂x∂s
+  double gs = 0;                 // the residual of the probe's travel under force control
+  double shift = 0, maxDiag = 0;
+  bool projectContact = false;   // the contact Hessian's positive part for the rest of the solve
+  Points xt, stepPoints;
+};
+
+SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
-  if (analyzedFor_ != &pattern || analyzedNnz_ != pattern.nnz()) {
-    chol_.analyze(pattern);
-    analyzedFor_ = &pattern;
-    analyzedNnz_ = pattern.nnz();
+  Run r(x, fc, model_);
+  if (analyzedFor_ != &r.pattern || analyzedNnz_ != r.pattern.nnz()) {
+    chol_.analyze(r.pattern);
+    analyzedFor_ = &r.pattern;
+    analyzedNnz_ = r.pattern.nnz();
   }
-  // Vectors span the whole pattern: the free position components, then any edge unknowns of the
-  // bending term (Model::pattern()), which take a zero right-hand side; only the position part of
-  // a solution moves the tissue.
-  const int nAll = pattern.n;
-  std::vector<int> diagPos(nAll);
-  for (int j = 0; j < nAll; ++j) diagPos[j] = pattern.colPtr[j + 1] - 1;  // row == col comes last
-
-  const Points x0 = x;
-  const double travel0 = fc ? fc->travel : 0.0;
-  double travel = travel0;
+  r.diagPos.resize(r.nAll);
+  for (int j = 0; j < r.nAll; ++j) r.diagPos[j] = r.pattern.colPtr[j + 1] - 1;  // row == col last
   const Material& mat = model_.material();
-  const double stiffScale = mat.youngModulus * mat.thickness;          // µN/µm
-  const double floor = loadFreeFloor(model_);
-  const double noiseFloor = roundOffFloor(model_, n);
-  const double maxProbeStep =
-      options_.maxProbeStep > 0 ? options_.maxProbeStep
-                                : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
-
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(nAll), dx(nAll), z2(nAll), b = Eigen::VectorXd::Zero(nAll);
-  double shift = lastShift_ > 0 ? lastShift_ * 0.1 : 0.0;
-  auto fail = [&](const std::string& why) {
-    x = x0;
-    if (fc) {
-      fc->travel = travel0;
-      Probe p = *model_.probe();
-      p.center = fc->origin + travel0 * fc->axis;
-      model_.setProbe(p);
-    }
-    rep.converged = false;
-    rep.message = why;
-    return rep;
-  };
-
-  // Evaluates the model at (x, probe travel); the Hessian only when a Newton direction is needed
-  // (a gradient costs about a tenth of a full assembly, and most load steps converge in one
-  // iteration, so the state they end in never needs its Hessian).
-  auto evaluateAt = [&](const Points& at, double trav, bool withHessian, Evaluation& e,
-                        bool projectContact = false) {
-    if (fc) {
-      Probe p = *model_.probe();
-      p.center = fc->origin + trav * fc->axis;
-      model_.setProbe(p);
-    }
-    const auto tick = Clock::now();
-    model_.evaluate(at, e, EvalOptions{.hessian = withHessian, .projectContact = projectContact});
-    (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
-  };
-  // Energy (with the work of the applied force), residual and load scale of an evaluation.
-  double gs = 0;
-  auto measure = [&](const Evaluation& e, double trav, double& energy, double& residual,
-                     double& loadScale) {
-    double loadNorm2 = 0;
-    for (int i = 0; i < n; ++i) {
-      g[i] = e.gradient[freeDofs[i]];
-      loadNorm2 += e.loadGradient[freeDofs[i]] * e.loadGradient[freeDofs[i]];
-    }
-    gs = fc ? fc->axis.dot(e.probeGradient) - fc->force : 0.0;
-    energy = e.energy.total() - (fc ? fc->force * trav : 0.0);
-    loadScale = std::sqrt(loadNorm2) + (fc ? std::abs(fc->force) : 0.0) + floor;
-    residual = std::sqrt(g.squaredNorm() + gs * gs);
-  };
-
-  Points xt = x;
-  double bestResidual = std::numeric_limits<double>::infinity();
-  int stalled = 0;
-  bool projectContact = projectedLastSolve_;
+  r.stiffScale = mat.youngModulus * mat.thickness;  // µN/µm
+  r.floor = loadFreeFloor(model_);
+  r.noiseFloor = roundOffFloor(model_, r.n);
+  r.maxProbeStep = options_.maxProbeStep > 0
+                       ? options_.maxProbeStep
+                       : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
+  r.g = Eigen::VectorXd::Zero(r.nAll);
+  r.b = Eigen::VectorXd::Zero(r.nAll);
+  r.dx.resize(r.nAll);
+  r.z2.resize(r.nAll);
+  r.shift = lastShift_ > 0 ? lastShift_ * 0.1 : 0.0;
+  r.projectContact = projectedLastSolve_;
   struct Remember {
     bool& from;
     bool& to;
     ~Remember() { to = from; }
-  } remember{projectContact, projectedLastSolve_};
-  evaluateAt(x, travel, false, ev_);
+  } remember{r.projectContact, projectedLastSolve_};
+
+  double bestResidual = std::numeric_limits<double>::infinity();
+  int stalled = 0;
+  evaluateAt(r, x, r.travel, false, ev_);
   // Contact that cannot be lost: start clear of the walls and keep the clearance at every step.
   if (model_.probe() && !(model_.probeDistance(x) > model_.contactClearance()))
-    return fail("the probe starts within half its radius of a wall (a step too large for the "
-                "contact to be followed)");
-  Points stepPoints;
+    return fail(r, "the probe starts within half its radius of a wall (a step too large for the "
+                   "contact to be followed)");
   for (int it = 0;; ++it) {
-    measure(ev_, travel, rep.energy, rep.residual, rep.loadScale);
+    SolveReport& rep = r.rep;
+    measure(r, ev_, r.travel, rep.energy, rep.residual, rep.loadScale);
     rep.iterations = it;
     if (options_.verbose)
       std::fprintf(stderr,
                    "  newton %2d  E=%.12g  |g|=%.3e  rel=%.3e  shift=%.2e  contact=%d  "
                    "factorisations=%d  cg=%d\n",
-                   it, rep.energy, rep.residual, rep.relativeResidual(), shift,
+                   it, rep.energy, rep.residual, rep.relativeResidual(), r.shift,
                    ev_.contactTriangles, rep.factorizations, rep.pcgIterations);
-    if (!std::isfinite(rep.energy)) return fail("energy is not finite");
-    if (!std::isfinite(rep.residual)) return fail("residual is not finite");
+    if (!std::isfinite(rep.energy)) return fail(r, "energy is not finite");
+    if (!std::isfinite(rep.residual)) return fail(r, "residual is not finite");
     // Stagnation: when full Newton steps no longer reduce the residual and it is already within
     // a hundred times the target, it sits on the round-off floor of the forces (sliver
     // triangles far from the origin make that floor higher than roundOffFloor() says): the
     // state is as converged as the arithmetic allows.
-    const double goal = std::max(options_.tolerance * rep.loadScale, noiseFloor);
+    const double goal = std::max(options_.tolerance * rep.loadScale, r.noiseFloor);
     if (rep.residual < 0.5 * bestResidual) {
       bestResidual = rep.residual;
       stalled = 0;
@@ -261,142 +237,206 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       ++stalled;
     }
     const bool atFloor = stalled >= 3 && rep.residual <= 100 * goal;
-    if (cancel_ && cancel_->load()) return fail("cancelled");
+    if (cancel_ && cancel_->load()) return fail(r, "cancelled");
     if (rep.residual <= goal || atFloor) {
       if (atFloor && rep.residual > goal)
         rep.message = "converged to the round-off floor of the forces";
       rep.converged = true;
       lastX_ = x;
-      if (fc) fc->travel = travel;
-      lastShift_ = shift;
+      if (fc) fc->travel = r.travel;
+      lastShift_ = r.shift;
       return rep;
     }
     if (it >= options_.maxIterations) {
       std::ostringstream s;
       s << "did not converge in " << it << " iterations (relative residual "
         << rep.relativeResidual() << ")";
-      return fail(s.str());
+      return fail(r, s.str());
     }
-    // The first iteration of a solve uses the positive part of each contact element's Hessian
-    // (the sphere's curvature makes it indefinite: robust, and the lagged factor stays a good
-    // preconditioner); later iterations use the exact tangent, so convergence is quadratic,
-    // unless the exact tangent has already failed to be positive definite in this solve or the
-    // last one: then the positive part again (one factorisation per iteration instead of two,
-    // at the price of a linear rate in the contact's curvature term, which is small).
-    const bool projectFirst = options_.projectContactHessian && (it == 0 || projectContact);
-    if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0)) {
-      evaluateAt(x, travel, true, ev_, projectFirst);
-    }
-    auto tick = Clock::now();
-
-    // Newton direction. First by conjugate gradients preconditioned with the last Cholesky
-    // factor (from an earlier iteration or load step: the tangent changes little between them),
-    // which costs a few triangular solves instead of a factorisation; if that does not converge
-    // quickly, or meets negative curvature, factorise the current tangent with a diagonal shift
-    // that grows until the factorisation succeeds.
-    double maxDiag = 0;
-    for (int j = 0; j < nAll; ++j) maxDiag = std::max(maxDiag, std::abs(ev_.hessian[diagPos[j]]));
-    if (maxDiag == 0) maxDiag = stiffScale;
-    if (fc)
-      for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
-    bool solved = false;
-    // A factor whose last CG solve failed, or took more than refactorAfterPcg iterations and
-    // more than a quarter of a factorisation's time, has drifted too far from the tangent: it is
-    // refactorised straight away. (On the default meristem a factorisation costs about as much as
-    // 40 CG iterations; on large meshes the triangular solves get relatively cheaper, so more CG
-    // iterations are worth doing before refactorising.)
-    const bool factorDrifted =
-        lastPcgFailed_ || (lastPcgIterations_ > options_.refactorAfterPcg &&
-                           lastPcgSeconds_ > 0.25 * factorSeconds_);
-    if (options_.reuseFactorization && chol_.factored() && shift == 0 && !factorDrifted) {
-      // Inexact Newton: solve just accurately enough for this step to reach the tolerance
-      // (a tenth of the remaining reduction), never looser than pcgTolerance.
-      const double target = std::max(options_.tolerance * rep.loadScale, noiseFloor);
-      const double eta = std::clamp(0.1 * target / rep.residual, 1e-12, options_.pcgTolerance);
-      int its = 0;
-      tick = Clock::now();
-      solved = pcg(pattern, ev_.hessian, g, dx, eta, its) &&
-               (!fc || pcg(pattern, ev_.hessian, b, z2, eta, its));
-      lastPcgSeconds_ = seconds(tick);
-      totals_.pcgSeconds += lastPcgSeconds_;
-      rep.pcgIterations += its;
-      lastPcgIterations_ = its / (fc ? 2 : 1);
-      lastPcgFailed_ = !solved;
-    }
-    if (!solved) {
-      tick = Clock::now();
-      std::string why;
-      const auto refresh = [&] {
-        // The contact Hessian's positive part, for this iteration (see factorizeTangent) and
-        // the rest of this solve.
-        projectContact = true;
-        evaluateAt(x, travel, true, ev_, true);
-        if (fc)
-          for (int i = 0; i < n; ++i) b[i] = ev_.probeCoupling.row(freeDofs[i]).dot(fc->axis);
-      };
-      if (!factorizeTangent(shift, maxDiag, rep.factorizations, refresh, why)) return fail(why);
-      lastPcgIterations_ = 0;
-      lastPcgSeconds_ = 0;
-      lastPcgFailed_ = false;
-      rep.maxShift = std::max(rep.maxShift, shift);
-      chol_.solve(g, dx);
-      if (fc) chol_.solve(b, z2);
-      totals_.factorSeconds += seconds(tick);
-    }
-    dx = -dx;
-    double ds = 0;
-    if (fc) {
-      const double kss = fc->axis.dot(ev_.probeHessian * fc->axis);
-      double schur = kss - b.dot(z2);
-      const double schurFloor = 1e-3 * stiffScale;
-      if (!(schur > schurFloor)) schur = std::max(schur, 0.0) + schurFloor + shift;
-      // [K b; bᵀ kss][dx; ds] = −[g; gs], with K⁻¹g = −dx from above.
-      ds = -(gs + b.dot(dx)) / schur;
-      dx -= z2 * ds;
-    }
-    const double slope = g.dot(dx) + gs * ds;
-    if (!(slope < 0)) return fail("Newton direction is not a descent direction");
-
-    double alphaMax = 1.0;
-    if (fc && maxProbeStep > 0 && std::abs(ds) > maxProbeStep) alphaMax = maxProbeStep / std::abs(ds);
-    if (model_.probe()) {
-      stepPoints.setZero(3, x.cols());
-      for (int i = 0; i < n; ++i) stepPoints.data()[freeDofs[i]] = dx[i];
-      const double bound = model_.contactStepBound(x, stepPoints, fc ? Vec3(ds * fc->axis) : Vec3::Zero());
-      if (!(bound > 1e-12 * alphaMax))
-        return fail("no step keeps the probe clear of the walls (contact would be lost)");
-      alphaMax = std::min(alphaMax, bound);
-    }
-
-    // Backtracking line search on the energy (Armijo). When the energy change is within its
-    // round-off (the energy is a sum of terms far larger than their total), a step is judged by
-    // the residual instead, which stays accurate. Each trial state is evaluated with its
-    // gradient, so the accepted one needs no new evaluation.
-    const double noise = 1e-13 * (ev_.energy.magnitude + (fc ? std::abs(fc->force * travel) : 0.0));
-    const double energy0 = rep.energy, residual0 = rep.residual;
-    double alpha = alphaMax;
-    bool accepted = false;
-    for (int ls = 0; ls < options_.maxLineSearch; ++ls) {
-      xt = x;
-      for (int i = 0; i < n; ++i) xt.data()[freeDofs[i]] += alpha * dx[i];
-      evaluateAt(xt, travel + alpha * ds, false, trial_);
-      double et, rt, lt;
-      measure(trial_, travel + alpha * ds, et, rt, lt);
-      if (std::isfinite(et) && (et <= energy0 + 1e-4 * alpha * slope ||
-                                (et <= energy0 + noise && rt <= 0.9 * residual0))) {
-        accepted = true;
-        break;
-      }
-      alpha *= 0.5;
-    }
-    if (!accepted) return fail("line search failed to decrease the energy");
-    x = xt;
-    travel += alpha * ds;
-    std::swap(ev_, trial_);
+    std::string why;
+    if (!newtonDirection(r, it, why)) return fail(r, why);
+    const double ds = probeStep(r);
+    const double slope = r.g.dot(r.dx) + r.gs * ds;
+    if (!(slope < 0)) return fail(r, "Newton direction is not a descent direction");
+    const double alphaMax = stepLimit(r, ds);
+    if (!(alphaMax > 0))
+      return fail(r, "no step keeps the probe clear of the walls (contact would be lost)");
+    const double alpha = lineSearch(r, ds, slope, alphaMax);
+    if (!(alpha > 0)) return fail(r, "line search failed to decrease the energy");
     // A shift that worked is tried smaller next time; full steps suggest it is not needed.
-    shift = (alpha == 1.0) ? shift * 0.1 : shift;
-    if (shift < 1e-12 * maxDiag) shift = 0;
+    if (alpha == 1.0) r.shift *= 0.1;
+    if (r.shift < 1e-12 * r.maxDiag) r.shift = 0;
   }
+}
+
+SolveReport StaticSolver::fail(Run& r, const std::string& why) {
+  r.x = r.x0;
+  if (r.fc) {
+    r.fc->travel = r.travel0;
+    Probe p = *model_.probe();
+    p.center = r.fc->origin + r.travel0 * r.fc->axis;
+    model_.setProbe(p);
+  }
+  r.rep.converged = false;
+  r.rep.message = why;
+  return r.rep;
+}
+
+// Evaluates the model at (x, probe travel); the Hessian only when a Newton direction is needed
+// (a gradient costs about a tenth of a full assembly, and most load steps converge in one
+// iteration, so the state they end in never needs its Hessian).
+void StaticSolver::evaluateAt(Run& r, const Points& at, double travel, bool withHessian,
+                              Evaluation& e, bool projectContact) {
+  if (r.fc) {
+    Probe p = *model_.probe();
+    p.center = r.fc->origin + travel * r.fc->axis;
+    model_.setProbe(p);
+  }
+  const auto tick = Clock::now();
+  model_.evaluate(at, e, EvalOptions{.hessian = withHessian, .projectContact = projectContact});
+  (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
+}
+
+// Energy (with the work of the applied force), residual (into r.g, r.gs) and load scale.
+void StaticSolver::measure(Run& r, const Evaluation& e, double travel, double& energy,
+                           double& residual, double& loadScale) {
+  double loadNorm2 = 0;
+  for (int i = 0; i < r.n; ++i) {
+    r.g[i] = e.gradient[r.freeDofs[i]];
+    loadNorm2 += e.loadGradient[r.freeDofs[i]] * e.loadGradient[r.freeDofs[i]];
+  }
+  r.gs = r.fc ? r.fc->axis.dot(e.probeGradient) - r.fc->force : 0.0;
+  energy = e.energy.total() - (r.fc ? r.fc->force * travel : 0.0);
+  loadScale = std::sqrt(loadNorm2) + (r.fc ? std::abs(r.fc->force) : 0.0) + r.floor;
+  residual = std::sqrt(r.g.squaredNorm() + r.gs * r.gs);
+}
+
+// The Newton direction r.dx = −K⁻¹g (and r.z2 = K⁻¹b under force control). First by conjugate
+// gradients preconditioned with the last Cholesky factor (from an earlier iteration or load
+// step: the tangent changes little between them), which costs a few triangular solves instead
+// of a factorisation; if that does not converge quickly, or meets negative curvature, the
+// current tangent is factorised with a diagonal shift that grows until it succeeds.
+bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
+  // The first iteration of a solve uses the positive part of each contact element's Hessian
+  // (the sphere's curvature makes it indefinite: robust, and the lagged factor stays a good
+  // preconditioner); later iterations use the exact tangent, so convergence is quadratic,
+  // unless the exact tangent has already failed to be positive definite in this solve or the
+  // last one: then the positive part again (one factorisation per iteration instead of two,
+  // at the price of a linear rate in the contact's curvature term, which is small).
+  const bool projectFirst = options_.projectContactHessian && (it == 0 || r.projectContact);
+  if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0))
+    evaluateAt(r, r.x, r.travel, true, ev_, projectFirst);
+  const auto coupling = [&] {
+    if (r.fc)
+      for (int i = 0; i < r.n; ++i) r.b[i] = ev_.probeCoupling.row(r.freeDofs[i]).dot(r.fc->axis);
+  };
+  r.maxDiag = 0;
+  for (int j = 0; j < r.nAll; ++j) r.maxDiag = std::max(r.maxDiag, std::abs(ev_.hessian[r.diagPos[j]]));
+  if (r.maxDiag == 0) r.maxDiag = r.stiffScale;
+  coupling();
+  bool solved = false;
+  // A factor whose last CG solve failed, or took more than refactorAfterPcg iterations and
+  // more than a quarter of a factorisation's time, has drifted too far from the tangent: it is
+  // refactorised straight away. (On the default meristem a factorisation costs about as much as
+  // 40 CG iterations; on large meshes the triangular solves get relatively cheaper, so more CG
+  // iterations are worth doing before refactorising.)
+  const bool factorDrifted =
+      lastPcgFailed_ || (lastPcgIterations_ > options_.refactorAfterPcg &&
+                         lastPcgSeconds_ > 0.25 * factorSeconds_);
+  if (options_.reuseFactorization && chol_.factored() && r.shift == 0 && !factorDrifted) {
+    // Inexact Newton: solve just accurately enough for this step to reach the tolerance
+    // (a tenth of the remaining reduction), never looser than pcgTolerance.
+    const double target = std::max(options_.tolerance * r.rep.loadScale, r.noiseFloor);
+    const double eta = std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
+    int its = 0;
+    const auto tick = Clock::now();
+    solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its) &&
+             (!r.fc || pcg(r.pattern, ev_.hessian, r.b, r.z2, eta, its));
+    lastPcgSeconds_ = seconds(tick);
+    totals_.pcgSeconds += lastPcgSeconds_;
+    r.rep.pcgIterations += its;
+    lastPcgIterations_ = its / (r.fc ? 2 : 1);
+    lastPcgFailed_ = !solved;
+  }
+  if (!solved) {
+    const auto tick = Clock::now();
+    const auto refresh = [&] {
+      // The contact Hessian's positive part, for this iteration (see factorizeTangent) and
+      // the rest of this solve.
+      r.projectContact = true;
+      evaluateAt(r, r.x, r.travel, true, ev_, true);
+      coupling();
+    };
+    if (!factorizeTangent(r.shift, r.maxDiag, r.rep.factorizations, refresh, why)) return false;
+    lastPcgIterations_ = 0;
+    lastPcgSeconds_ = 0;
+    lastPcgFailed_ = false;
+    r.rep.maxShift = std::max(r.rep.maxShift, r.shift);
+    chol_.solve(r.g, r.dx);
+    if (r.fc) chol_.solve(r.b, r.z2);
+    totals_.factorSeconds += seconds(tick);
+  }
+  r.dx = -r.dx;
+  return true;
+}
+
+// Under force control the probe's travel s borders the tissue's matrix:
+// [K b; bᵀ kss][dx; ds] = −[g; gs]. With K⁻¹g = −dx and K⁻¹b = z2 from newtonDirection, the
+// Schur complement kss − bᵀK⁻¹b gives ds, and dx is corrected by −z2·ds. Returns ds (0 under
+// displacement control).
+double StaticSolver::probeStep(Run& r) {
+  if (!r.fc) return 0.0;
+  const double kss = r.fc->axis.dot(ev_.probeHessian * r.fc->axis);
+  double schur = kss - r.b.dot(r.z2);
+  const double schurFloor = 1e-3 * r.stiffScale;
+  if (!(schur > schurFloor)) schur = std::max(schur, 0.0) + schurFloor + r.shift;
+  const double ds = -(r.gs + r.b.dot(r.dx)) / schur;
+  r.dx -= r.z2 * ds;
+  return ds;
+}
+
+// The longest fraction of the step allowed: the probe moves at most maxProbeStep per iteration,
+// and no point of the step may bring the probe within its clearance of a wall
+// (Model::contactStepBound). 0 when no step keeps the clearance.
+double StaticSolver::stepLimit(Run& r, double ds) {
+  double alphaMax = 1.0;
+  if (r.fc && r.maxProbeStep > 0 && std::abs(ds) > r.maxProbeStep)
+    alphaMax = r.maxProbeStep / std::abs(ds);
+  if (!model_.probe()) return alphaMax;
+  r.stepPoints.setZero(3, r.x.cols());
+  for (int i = 0; i < r.n; ++i) r.stepPoints.data()[r.freeDofs[i]] = r.dx[i];
+  const double bound =
+      model_.contactStepBound(r.x, r.stepPoints, r.fc ? Vec3(ds * r.fc->axis) : Vec3::Zero());
+  if (!(bound > 1e-12 * alphaMax)) return 0.0;
+  return std::min(alphaMax, bound);
+}
+
+// Backtracking line search on the energy (Armijo) from alphaMax. When the energy change is
+// within its round-off (the energy is a sum of terms far larger than their total), a step is
+// judged by the residual instead, which stays accurate. Each trial state is evaluated with its
+// gradient, so the accepted one needs no new evaluation: it becomes the iterate (x, travel,
+// ev_). Returns the step taken, 0 when none decreases the energy.
+double StaticSolver::lineSearch(Run& r, double ds, double slope, double alphaMax) {
+  const double noise =
+      1e-13 * (ev_.energy.magnitude + (r.fc ? std::abs(r.fc->force * r.travel) : 0.0));
+  const double energy0 = r.rep.energy, residual0 = r.rep.residual;
+  double alpha = alphaMax;
+  for (int ls = 0; ls < options_.maxLineSearch; ++ls) {
+    r.xt = r.x;
+    for (int i = 0; i < r.n; ++i) r.xt.data()[r.freeDofs[i]] += alpha * r.dx[i];
+    evaluateAt(r, r.xt, r.travel + alpha * ds, false, trial_);
+    double et, rt, lt;
+    measure(r, trial_, r.travel + alpha * ds, et, rt, lt);
+    if (std::isfinite(et) && (et <= energy0 + 1e-4 * alpha * slope ||
+                              (et <= energy0 + noise && rt <= 0.9 * residual0))) {
+      r.x = r.xt;
+      r.travel += alpha * ds;
+      std::swap(ev_, trial_);
+      return alpha;
+    }
+    alpha *= 0.5;
+  }
+  return 0.0;
 }
 
 }  // namespace tp

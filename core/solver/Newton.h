@@ -32,7 +32,20 @@ class StaticSolver final : public EquilibriumSolver {
   double timeFactorization();
 
  private:
+  // One solve, as named steps: each iteration measures the residual, takes a Newton direction
+  // (newtonDirection), eliminates the probe's travel under force control (probeStep), limits
+  // the step so that contact is kept (stepLimit) and searches along it (lineSearch).
+  struct Run;
   SolveReport solveImpl(Points& x, ForceControl* fc);
+  SolveReport fail(Run& r, const std::string& why);  // restores the starting state
+  void evaluateAt(Run& r, const Points& at, double travel, bool withHessian, Evaluation& e,
+                  bool projectContact = false);
+  void measure(Run& r, const Evaluation& e, double travel, double& energy, double& residual,
+               double& loadScale);
+  bool newtonDirection(Run& r, int iteration, std::string& why);
+  double probeStep(Run& r);
+  double stepLimit(Run& r, double ds);
+  double lineSearch(Run& r, double ds, double slope, double alphaMax);
   /// Factorises ev_'s tangent (+ shift·I), first replacing the contact Hessian by its positive
   /// part (projectContact) and then growing the shift while it is not positive definite.
   bool factorizeTangent(double& shift, double maxDiag, int& factorizations,
