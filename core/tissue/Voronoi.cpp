@@ -122,24 +122,28 @@ void voronoiCentroids(const std::vector<Vec3>& seeds, const std::vector<Vec3>& g
     if (volumes[i] < 0) throw std::runtime_error("seed " + std::to_string(i) + " has no cell");
 }
 
-CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector<int>& labels,
-                               const std::vector<Vec3>& ghosts,
-                               const std::vector<BoundaryKind>& ghostKinds,
-                               const VoronoiOptions& options, VoronoiReport* report) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const int n = static_cast<int>(seeds.size());
-  if (n == 0) throw std::invalid_argument("no seeds");
-  if (!labels.empty() && static_cast<int>(labels.size()) != n)
-    throw std::invalid_argument("one label per seed expected");
-  if (ghostKinds.size() != ghosts.size()) throw std::invalid_argument("one kind per ghost expected");
+namespace {
 
+// The walls of the Voronoi cells before they become a CellComplex: the stages of
+// buildVoronoiTissue below pass it along.
+struct RawTissue {
+  std::vector<Vec3> points;    // welded Voronoi vertices (µm)
+  std::vector<RawWall> walls;  // each wound outward from its cell
+  std::vector<int> flags;      // per point: kSurface | kBase
+  static constexpr int kSurface = 1, kBase = 2;
+};
+
+// Stage 1: every real cell from voro++, its faces wound outward, vertices welded across cells;
+// each inner wall once (from its lower seed), each boundary wall with its ghost's kind.
+RawTissue computeCells(const std::vector<Vec3>& seeds, const std::vector<int>& labels,
+                       const std::vector<Vec3>& ghosts,
+                       const std::vector<BoundaryKind>& ghostKinds) {
+  const int n = static_cast<int>(seeds.size());
   double diag = 0;
   auto conPtr = makeContainer(seeds, ghosts, &diag);
   voro::container& con = *conPtr;
-
-  // Every real cell, its faces wound outward, vertices welded across cells.
   Welder welder(1e-8 * diag);
-  std::vector<RawWall> walls;
+  RawTissue raw;
   std::vector<int> seen(n, 0);
   voro::c_loop_all loop(con);
   voro::voronoicell_neighbor cell;
@@ -175,16 +179,16 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
         w.cell = id;
         w.neighbor = other < n ? other : -1;
         if (other >= n) w.kind = ghostKinds[other - n];
-        walls.push_back(std::move(w));
+        raw.walls.push_back(std::move(w));
       }
     } while (loop.inc());
   for (int i = 0; i < n; ++i)
     if (!seen[i])
       throw std::runtime_error("seed " + std::to_string(i) + " lies outside the bounding box");
 
-  std::vector<Vec3>& P = welder.points();
-  const int V = static_cast<int>(P.size());
-  for (auto& w : walls) {
+  raw.points = std::move(welder.points());
+  const std::vector<Vec3>& P = raw.points;
+  for (auto& w : raw.walls) {
     removeRepeats(w.loop);
     // Wind outward from the cell: its seed lies on the inner side of the (convex) cell's face.
     if (w.loop.size() >= 3) {
@@ -194,128 +198,138 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
       if (newellNormal(P, w.loop).dot(c - seeds[w.cell]) < 0) std::reverse(w.loop.begin(), w.loop.end());
     }
   }
-
-  // Vertex flags: kSurface on the outer surface, kBase on the base (both on its rim). A collapse
-  // keeps the position of the end with more flags, so the boundary stays where it is.
-  constexpr int kSurface = 1, kBase = 2;
-  std::vector<int> kind(V, 0);
-  for (const auto& w : walls)
+  // Vertex flags: kSurface on the outer surface, kBase on the base (both on its rim).
+  raw.flags.assign(P.size(), 0);
+  for (const auto& w : raw.walls)
     if (w.neighbor < 0)
-      for (int v : w.loop) kind[v] |= w.kind == BoundaryKind::Base ? kBase : kSurface;
-  auto flagCount = [](int k) { return (k & 1) + ((k >> 1) & 1); };
+      for (int v : w.loop) raw.flags[v] |= w.kind == BoundaryKind::Base ? RawTissue::kBase : RawTissue::kSurface;
+  return raw;
+}
 
-  // Collapse short edges (Voronoi slivers from nearly co-spherical seeds), shortest first.
-  VoronoiReport rep;
-  std::vector<int> parent(V);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
+// Union-find over points, with path halving.
+struct Merges {
+  std::vector<int> parent;
+  explicit Merges(int count) : parent(count) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
     return v;
-  };
-  if (options.collapseLength > 0) {
-    std::vector<std::vector<int>> vertexWalls(V);
-    for (size_t w = 0; w < walls.size(); ++w)
-      for (int v : walls[w].loop) vertexWalls[v].push_back(static_cast<int>(w));
-    std::vector<std::pair<double, std::pair<int, int>>> edges;
-    for (const auto& w : walls)
-      for (size_t i = 0; i < w.loop.size(); ++i) {
-        const int a = w.loop[i], b = w.loop[(i + 1) % w.loop.size()];
-        const double len = (P[a] - P[b]).norm();
-        if (a < b && len < options.collapseLength) edges.push_back({len, {a, b}});
-      }
-    std::sort(edges.begin(), edges.end());
-    for (const auto& [len0, ab] : edges) {
-      const int a = find(ab.first), b = find(ab.second);
-      if (a == b || (P[a] - P[b]).norm() >= options.collapseLength) continue;
-      // Refuse a collapse that would pinch a wall (a and b in one wall but not adjacent there).
-      bool pinch = false;
-      for (int w : vertexWalls[a]) {
-        const auto& lp = walls[w].loop;
-        const int m = static_cast<int>(lp.size());
-        std::vector<int> pos;
-        for (int i = 0; i < m; ++i) {
-          const int r = find(lp[i]);
-          if (r == a || r == b) pos.push_back(i);
-        }
-        // Positions of a and b (after earlier merges) must form one run around the loop.
-        if (pos.size() >= 2) {
-          int runs = 0;
-          for (size_t q = 0; q < pos.size(); ++q) {
-            const int prev = (pos[q] + m - 1) % m;
-            const int rp = find(lp[prev]);
-            if (rp != a && rp != b) ++runs;
-          }
-          if (runs > 1) pinch = true;
-        }
-      }
-      // Link condition: a vertex adjacent to both a and b must close a triangular wall a-b-c
-      // (which the collapse removes); otherwise two edges would fold onto one.
-      if (!pinch) {
-        auto neighbours = [&](int v, std::vector<int>& out, std::vector<int>& tri) {
-          for (int w : vertexWalls[v]) {
-            std::vector<int> lp;
-            for (int x : walls[w].loop) {
-              const int r = find(x);
-              if (lp.empty() || lp.back() != r) lp.push_back(r);
-            }
-            while (lp.size() > 1 && lp.front() == lp.back()) lp.pop_back();
-            const int m = static_cast<int>(lp.size());
-            for (int i = 0; i < m; ++i)
-              if (lp[i] == v) {
-                out.push_back(lp[(i + 1) % m]);
-                out.push_back(lp[(i + m - 1) % m]);
-              }
-            if (m == 3) tri.insert(tri.end(), lp.begin(), lp.end());
-          }
-        };
-        std::vector<int> na, nb, tri, dummy;
-        neighbours(a, na, tri);
-        neighbours(b, nb, dummy);
-        for (int c : na) {
-          if (c == a || c == b || std::find(nb.begin(), nb.end(), c) == nb.end()) continue;
-          bool closesTriangle = false;
-          for (size_t t = 0; t + 2 < tri.size() && !closesTriangle; t += 3) {
-            const int* q = &tri[t];
-            const bool hasA = q[0] == a || q[1] == a || q[2] == a;
-            const bool hasB = q[0] == b || q[1] == b || q[2] == b;
-            const bool hasC = q[0] == c || q[1] == c || q[2] == c;
-            closesTriangle = hasA && hasB && hasC;
-          }
-          if (!closesTriangle) pinch = true;
-        }
-      }
-      if (pinch) {
-        ++rep.skippedCollapses;
-        continue;
-      }
-      Vec3 merged = 0.5 * (P[a] + P[b]);
-      if (flagCount(kind[a]) > flagCount(kind[b])) merged = P[a];
-      if (flagCount(kind[b]) > flagCount(kind[a])) merged = P[b];
-      parent[b] = a;
-      P[a] = merged;
-      kind[a] |= kind[b];
-      vertexWalls[a].insert(vertexWalls[a].end(), vertexWalls[b].begin(), vertexWalls[b].end());
-      ++rep.collapsedEdges;
+  }
+};
+
+// Would merging a and b pinch a wall (a and b in one wall but not adjacent there, so that the
+// loop would touch itself), or fold two edges onto one (a vertex adjacent to both that does not
+// close a triangular wall a-b-c, which the collapse removes: the link condition)?
+bool collapseWouldFold(const RawTissue& raw, const std::vector<std::vector<int>>& vertexWalls,
+                       Merges& m, int a, int b) {
+  for (int w : vertexWalls[a]) {
+    const auto& lp = raw.walls[w].loop;
+    const int size = static_cast<int>(lp.size());
+    std::vector<int> pos;
+    for (int i = 0; i < size; ++i) {
+      const int r = m.find(lp[i]);
+      if (r == a || r == b) pos.push_back(i);
     }
-    for (auto& w : walls) {
-      for (int& v : w.loop) v = find(v);
-      removeRepeats(w.loop);
+    // Positions of a and b (after earlier merges) must form one run around the loop.
+    if (pos.size() >= 2) {
+      int runs = 0;
+      for (size_t q = 0; q < pos.size(); ++q) {
+        const int rp = m.find(lp[(pos[q] + size - 1) % size]);
+        if (rp != a && rp != b) ++runs;
+      }
+      if (runs > 1) return true;
     }
   }
-  const size_t before = walls.size();
-  auto dropDegenerate = [&] {
-    walls.erase(std::remove_if(walls.begin(), walls.end(),
-                               [](const RawWall& w) { return w.loop.size() < 3; }),
-                walls.end());
+  auto neighbours = [&](int v, std::vector<int>& out, std::vector<int>& tri) {
+    for (int w : vertexWalls[v]) {
+      std::vector<int> lp;
+      for (int x : raw.walls[w].loop) {
+        const int r = m.find(x);
+        if (lp.empty() || lp.back() != r) lp.push_back(r);
+      }
+      while (lp.size() > 1 && lp.front() == lp.back()) lp.pop_back();
+      const int size = static_cast<int>(lp.size());
+      for (int i = 0; i < size; ++i)
+        if (lp[i] == v) {
+          out.push_back(lp[(i + 1) % size]);
+          out.push_back(lp[(i + size - 1) % size]);
+        }
+      if (size == 3) tri.insert(tri.end(), lp.begin(), lp.end());
+    }
   };
-  dropDegenerate();
-  // A vertex with only two neighbours (left where a wall between two others vanished) is a kink
-  // in the middle of their common boundary: drop it, or both walls would triangulate the same
-  // sliver there and overlap.
+  std::vector<int> na, nb, tri, dummy;
+  neighbours(a, na, tri);
+  neighbours(b, nb, dummy);
+  for (int c : na) {
+    if (c == a || c == b || std::find(nb.begin(), nb.end(), c) == nb.end()) continue;
+    bool closesTriangle = false;
+    for (size_t t = 0; t + 2 < tri.size() && !closesTriangle; t += 3) {
+      const int* q = &tri[t];
+      const bool hasA = q[0] == a || q[1] == a || q[2] == a;
+      const bool hasB = q[0] == b || q[1] == b || q[2] == b;
+      const bool hasC = q[0] == c || q[1] == c || q[2] == c;
+      closesTriangle = hasA && hasB && hasC;
+    }
+    if (!closesTriangle) return true;
+  }
+  return false;
+}
+
+// Stage 2: collapse edges shorter than `length` (Voronoi slivers from nearly co-spherical
+// seeds), shortest first, unless the collapse would fold the walls. A collapse keeps the
+// position of the end with more flags, so the boundary stays where it is.
+void collapseShortEdges(RawTissue& raw, double length, VoronoiReport& rep) {
+  std::vector<Vec3>& P = raw.points;
+  const int V = static_cast<int>(P.size());
+  auto flagCount = [](int k) { return (k & 1) + ((k >> 1) & 1); };
+  Merges m(V);
+  std::vector<std::vector<int>> vertexWalls(V);
+  for (size_t w = 0; w < raw.walls.size(); ++w)
+    for (int v : raw.walls[w].loop) vertexWalls[v].push_back(static_cast<int>(w));
+  std::vector<std::pair<double, std::pair<int, int>>> edges;
+  for (const auto& w : raw.walls)
+    for (size_t i = 0; i < w.loop.size(); ++i) {
+      const int a = w.loop[i], b = w.loop[(i + 1) % w.loop.size()];
+      const double len = (P[a] - P[b]).norm();
+      if (a < b && len < length) edges.push_back({len, {a, b}});
+    }
+  std::sort(edges.begin(), edges.end());
+  for (const auto& [len0, ab] : edges) {
+    const int a = m.find(ab.first), b = m.find(ab.second);
+    if (a == b || (P[a] - P[b]).norm() >= length) continue;
+    if (collapseWouldFold(raw, vertexWalls, m, a, b)) {
+      ++rep.skippedCollapses;
+      continue;
+    }
+    Vec3 merged = 0.5 * (P[a] + P[b]);
+    if (flagCount(raw.flags[a]) > flagCount(raw.flags[b])) merged = P[a];
+    if (flagCount(raw.flags[b]) > flagCount(raw.flags[a])) merged = P[b];
+    m.parent[b] = a;
+    P[a] = merged;
+    raw.flags[a] |= raw.flags[b];
+    vertexWalls[a].insert(vertexWalls[a].end(), vertexWalls[b].begin(), vertexWalls[b].end());
+    ++rep.collapsedEdges;
+  }
+  for (auto& w : raw.walls) {
+    for (int& v : w.loop) v = m.find(v);
+    removeRepeats(w.loop);
+  }
+}
+
+void dropDegenerateWalls(RawTissue& raw) {
+  raw.walls.erase(std::remove_if(raw.walls.begin(), raw.walls.end(),
+                                 [](const RawWall& w) { return w.loop.size() < 3; }),
+                  raw.walls.end());
+}
+
+// Stage 3: a vertex with only two neighbours (left where a wall between two others vanished)
+// is a kink in the middle of their common boundary: drop it, or both walls would triangulate
+// the same sliver there and overlap. Repeated until none is left.
+void dissolveKinks(RawTissue& raw, VoronoiReport& rep) {
+  const int V = static_cast<int>(raw.points.size());
   for (bool changed = true; changed;) {
     changed = false;
     std::vector<std::vector<int>> nbr(V);
-    for (const auto& w : walls)
+    for (const auto& w : raw.walls)
       for (size_t i = 0; i < w.loop.size(); ++i) {
         const int a = w.loop[i], b = w.loop[(i + 1) % w.loop.size()];
         nbr[a].push_back(b);
@@ -328,7 +342,7 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
       l.erase(std::unique(l.begin(), l.end()), l.end());
       if (l.size() == 2) drop[v] = 1;
     }
-    for (auto& w : walls) {
+    for (auto& w : raw.walls) {
       const size_t m = w.loop.size();
       w.loop.erase(std::remove_if(w.loop.begin(), w.loop.end(), [&](int v) { return drop[v]; }),
                    w.loop.end());
@@ -336,15 +350,21 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
     }
     if (changed) {
       ++rep.dissolvedVertices;
-      dropDegenerate();
+      dropDegenerateWalls(raw);
     }
   }
-  rep.removedWalls = static_cast<int>(before - walls.size());
+}
 
-  // Compact the used vertices; put the boundary on the smooth surface and the base plane.
+// Stage 4: the cell complex: the used points compacted, the boundary put on the smooth
+// surface and the base plane (clamped), each wall triangulated avoiding diagonals between two
+// vertices that another wall of the same cell also holds (two walls would then share an inner
+// edge and the cell's surface would fold).
+CellComplex assembleComplex(RawTissue& raw, int cells, const std::vector<int>& labels,
+                            const VoronoiOptions& options) {
+  const int V = static_cast<int>(raw.points.size());
   std::vector<int> remap(V, -1);
   int count = 0;
-  for (auto& w : walls)
+  for (auto& w : raw.walls)
     for (int& v : w.loop) {
       if (remap[v] < 0) remap[v] = count++;
       v = remap[v];
@@ -354,18 +374,17 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
   cc.fixed.assign(count, 0);
   for (int v = 0; v < V; ++v) {
     if (remap[v] < 0) continue;
-    Vec3 p = P[v];
-    if ((kind[v] & kSurface) && options.projectToSurface) p = options.projectToSurface(p);
-    if (kind[v] & kBase) {
+    Vec3 p = raw.points[v];
+    if ((raw.flags[v] & RawTissue::kSurface) && options.projectToSurface) p = options.projectToSurface(p);
+    if (raw.flags[v] & RawTissue::kBase) {
       p.z() = options.baseZ;
       cc.fixed[remap[v]] = 1;
     }
     cc.rest.col(remap[v]) = p;
   }
-  cc.cellLabels.resize(n);
-  for (int i = 0; i < n; ++i) cc.cellLabels[i] = labels.empty() ? i + 1 : labels[i];
-  // Triangulate each wall avoiding diagonals between two vertices that another wall of the same
-  // cell also holds: two walls would then share an inner edge and the cell's surface would fold.
+  cc.cellLabels.resize(cells);
+  for (int i = 0; i < cells; ++i) cc.cellLabels[i] = labels.empty() ? i + 1 : labels[i];
+  const auto& walls = raw.walls;
   std::vector<std::vector<int>> wallsOf(count);
   for (size_t w = 0; w < walls.size(); ++w)
     for (int v : walls[w].loop) wallsOf[v].push_back(static_cast<int>(w));
@@ -384,6 +403,30 @@ CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector
     cc.addWall(triangulatePolygon(cc.rest, walls[w].loop, filter), walls[w].cell,
                walls[w].neighbor, walls[w].loop);
   }
+  return cc;
+}
+
+}  // namespace
+
+CellComplex buildVoronoiTissue(const std::vector<Vec3>& seeds, const std::vector<int>& labels,
+                               const std::vector<Vec3>& ghosts,
+                               const std::vector<BoundaryKind>& ghostKinds,
+                               const VoronoiOptions& options, VoronoiReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(seeds.size());
+  if (n == 0) throw std::invalid_argument("no seeds");
+  if (!labels.empty() && static_cast<int>(labels.size()) != n)
+    throw std::invalid_argument("one label per seed expected");
+  if (ghostKinds.size() != ghosts.size()) throw std::invalid_argument("one kind per ghost expected");
+
+  RawTissue raw = computeCells(seeds, labels, ghosts, ghostKinds);
+  VoronoiReport rep;
+  if (options.collapseLength > 0) collapseShortEdges(raw, options.collapseLength, rep);
+  const size_t before = raw.walls.size();
+  dropDegenerateWalls(raw);
+  dissolveKinks(raw, rep);
+  rep.removedWalls = static_cast<int>(before - raw.walls.size());
+  CellComplex cc = assembleComplex(raw, n, labels, options);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (report) *report = rep;
   return cc;
