@@ -6,11 +6,12 @@
 
 #include "io/Paths.h"
 #include "io/Ply.h"
+#include "io/TissueFiles.h"
 
 namespace tp::bench {
 
 std::shared_ptr<const CellComplex> defaultMeristem() {
-  static const auto cc = std::make_shared<const CellComplex>(readPly(defaultTissuePath()));
+  static const auto cc = std::make_shared<const CellComplex>(readTissue(defaultTissuePath()));
   return cc;
 }
 

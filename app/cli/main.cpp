@@ -29,6 +29,7 @@
 #include "io/CurveCsv.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
+#include "io/TissueFiles.h"
 #include "io/Vtu.h"
 #include "mesh/Quality.h"
 #include "tissue/Meristem.h"
@@ -129,7 +130,7 @@ Vec3 parseVec3(const std::string& text, const std::string& option) {
 
 CellComplex loadTissue(const std::string& path) {
   PlyInfo info;
-  CellComplex cc = readPly(path, &info);
+  CellComplex cc = readTissue(path, &info);
   const std::string problem = simulationProblem(cc);
   if (!problem.empty()) throw std::runtime_error(path + ": " + problem);
   return cc;
@@ -354,7 +355,7 @@ int runIndent(const IndentArgs& a) {
 
 int runInfo(const std::string& path) {
   PlyInfo info;
-  const CellComplex cc = readPly(path, &info);
+  const CellComplex cc = readTissue(path, &info);
   const MeshQuality q = measureQuality(cc);
   std::printf("file             %s (%s)\n", path.c_str(), info.format.c_str());
   std::printf("%s", formatQuality(q).c_str());

@@ -10,6 +10,7 @@
 #include "PlotPanel.h"
 #include "RecentFiles.h"
 #include "ScreenshotDialog.h"
+#include "io/TissueFiles.h"
 #include "SessionFile.h"
 #include "SimulationController.h"
 #include "TissueView.h"
@@ -140,8 +141,9 @@ void FileActions::report(bool ok, const QString& what, const QString& path, cons
 }
 
 void FileActions::openTissueDialog() {
-  const QString path = QFileDialog::getOpenFileName(window_, tr("Open a tissue"), lastDir(),
-                                                    tr("Tissues (*.ply);;All files (*)"));
+  const QString path = QFileDialog::getOpenFileName(
+      window_, tr("Open a tissue"), lastDir(),
+      QString::fromStdString(tissueFileFilter()) + tr(";;All files (*)"));
   if (path.isEmpty()) return;
   rememberDir(path);
   openTissue(path);
