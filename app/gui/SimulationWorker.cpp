@@ -15,6 +15,7 @@
 #include "experiment/Stress.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
+#include "io/TissueFiles.h"
 #include "io/Vtu.h"
 #include "mesh/Quality.h"
 
@@ -37,6 +38,8 @@ struct SimulationWorker::State {
   double liveEstimated = -1;  // the depth its error was last estimated at
   double dragStep = 0;        // largest depth change per drag equilibrium now (µm; 0: not set)
   std::string meshStatus;
+  mutable StressField turgidStress;  // at the turgid state of preparation turgidStressFor
+  mutable int turgidStressFor = -1;
 
   bool prepared() const { return site && site->indentation && site->indentation->prepared(); }
   const CellComplex& complex() const { return site ? *site->complex : *base; }
@@ -65,28 +68,14 @@ constexpr double kDragTolerance = 1e-7;  // relative residual of equilibria duri
 constexpr double kDragStepRadii = 0.025, kDragStepMin = 0.01, kDragStepMax = 0.25;
 constexpr int kEstimateDelayMs = 800;     // a drag at rest this long gets its error estimated
 
-// Per-triangle fields of a state: stress read-out and displacement from the turgid state.
+// Per-triangle colour quantities of a state (experiment/Quantities.h).
 void fillFields(const Model* model, const CellComplex& cc, const Points& x, const Points* turgid,
-                Snapshot& s) {
-  const int T = cc.triangleCount();
-  for (auto& f : s.fields) f.assign(T, 0.0f);
-  if (model) {
-    const StressField st = computeStress(*model, x);
-    for (int t = 0; t < T; ++t) {
-      s.fields[int(Field::VonMises)][t] = float(st.triangles[t].vonMises);
-      s.fields[int(Field::PrincipalMax)][t] = float(st.triangles[t].principalMax);
-      s.fields[int(Field::EnergyDensity)][t] = float(st.triangles[t].energyDensity);
-      s.fields[int(Field::BendingEnergyDensity)][t] = float(st.bendingEnergyDensity[t]);
-    }
-  }
-  if (turgid && turgid->cols() == x.cols()) {
-    // Mean of the corners' displacement magnitudes (µm).
-    Eigen::VectorXd d = (x - *turgid).colwise().norm().transpose();
-    for (int t = 0; t < T; ++t) {
-      const auto& tri = cc.triangles[t];
-      s.fields[int(Field::Displacement)][t] = float((d[tri[0]] + d[tri[1]] + d[tri[2]]) / 3.0);
-    }
-  }
+                const StressField* turgidStress, Snapshot& s) {
+  std::optional<StressField> st;
+  if (model) st = computeStress(*model, x);
+  const QuantityInputs in{st ? &*st : nullptr, turgidStress, &cc, &x, turgid};
+  const auto values = triangleQuantities(in);
+  for (int q = 0; q < kFieldCount; ++q) s.fields[q].assign(values[q].begin(), values[q].end());
 }
 
 std::string describePoint(const CurvePoint& p) {
@@ -233,7 +222,7 @@ void SimulationWorker::handle(const Load& r) {
   emit busy(tr("Reading %1…").arg(q(path)));
   CellComplex cc;
   try {
-    cc = readPly(path);
+    cc = readTissue(path);
   } catch (const std::exception& e) {  // PlyError names the file and the line
     emit loadFailed(q(path), QString::fromUtf8(e.what()));
     return;
@@ -580,8 +569,17 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
   const CellComplex& cc = s.complex();
   const Points& x = prepared ? s.site->indentation->state() : cc.rest;
   snap.positions = toFloats(x);
+  const StressField* turgidStress = nullptr;
+  if (prepared) {
+    // The turgid state's stress, once per preparation (the "change from turgid" quantities).
+    if (s.turgidStressFor != s.preparation) {
+      s.turgidStress = computeStress(*s.site->model, s.site->indentation->turgidState());
+      s.turgidStressFor = s.preparation;
+    }
+    turgidStress = &s.turgidStress;
+  }
   fillFields(prepared ? s.site->model.get() : nullptr, cc, x,
-             prepared ? &s.site->indentation->turgidState() : nullptr, snap);
+             prepared ? &s.site->indentation->turgidState() : nullptr, turgidStress, snap);
   snap.cellVolumes = cellVolumes(cc, x);
   if (prepared) {
     const Indentation& ind = *s.site->indentation;

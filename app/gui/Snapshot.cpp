@@ -98,40 +98,4 @@ std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, 
   return g;
 }
 
-const char* fieldName(Field f) {
-  switch (f) {
-    case Field::VonMises:
-      return "von Mises stress";
-    case Field::PrincipalMax:
-      return "max principal stress";
-    case Field::EnergyDensity:
-      return "strain-energy density";
-    case Field::BendingEnergyDensity:
-      return "bending-energy density";
-    case Field::Displacement:
-      return "displacement from turgid";
-  }
-  return "";
-}
-
-const char* fieldUnit(Field f) {
-  return f == Field::Displacement ? "µm" : "MPa";
-}
-
-const char* fieldKey(Field f) {
-  switch (f) {
-    case Field::VonMises:
-      return "von_mises";
-    case Field::PrincipalMax:
-      return "principal_max";
-    case Field::EnergyDensity:
-      return "strain_energy_density";
-    case Field::BendingEnergyDensity:
-      return "bending_energy_density";
-    case Field::Displacement:
-      return "displacement";
-  }
-  return "";
-}
-
 }  // namespace tp::gui

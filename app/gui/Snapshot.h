@@ -16,6 +16,7 @@
 
 #include "Parameters.h"
 #include "experiment/Indentation.h"
+#include "experiment/Quantities.h"
 #include "mesh/CellComplex.h"
 
 namespace tp::gui {
@@ -59,11 +60,12 @@ std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, 
                                                          int meshLevel = 0);
 
 /// Per-triangle quantities a user can colour the walls by.
-enum class Field { VonMises, PrincipalMax, EnergyDensity, BendingEnergyDensity, Displacement };
-constexpr int kFieldCount = 5;
-const char* fieldName(Field f);  // "von Mises stress"
-const char* fieldUnit(Field f);  // "MPa" or "µm"
-const char* fieldKey(Field f);   // "von_mises" (sessions, settings)
+/// The colour quantities: core's table (experiment/Quantities.h), where a new one goes.
+using Field = tp::Quantity;
+constexpr int kFieldCount = kQuantityCount;
+inline const char* fieldName(Field f) { return quantityInfo(f).name; }  // "von Mises stress"
+inline const char* fieldUnit(Field f) { return quantityInfo(f).unit; }  // "MPa" or "µm"
+inline const char* fieldKey(Field f) { return quantityInfo(f).key; }    // "von_mises"
 
 struct Snapshot {
   enum class Phase {

@@ -131,7 +131,8 @@ void TissueView::clearTarget() {
 void TissueView::updateRange() {
   const double oldLo = map_.lo(), oldHi = map_.hi();
   if (autoRange_ && !snapshot_.empty()) {
-    const auto [lo, hi] = tp::gui::autoRange(snapshot_, field_, map_.diverging());
+    const auto [lo, hi] =
+        tp::gui::autoRange(snapshot_, field_, map_.diverging() || quantityInfo(field_).change);
     map_.setRange(lo, hi);
   } else if (!autoRange_) {
     map_.setRange(lo_, hi_);

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "experiment/Quantities.h"
+
 namespace tp {
 
 StressField computeStress(const Model& model, const Points& x) {
@@ -47,21 +49,25 @@ StateFields stateFields(const Model& model, const Points& x, const Points& turgi
   if (x.cols() != cc.vertexCount() || turgid.cols() != cc.vertexCount())
     throw std::invalid_argument("stateFields: positions do not match the tissue");
   const StressField st = computeStress(model, x);
+  const StressField turgidSt = computeStress(model, turgid);
   StateFields out;
-  VtuField sigma{"cauchy_stress_MPa", 9, {}}, s1{"principal_max_MPa", 1, {}},
-      s2{"principal_min_MPa", 1, {}}, vm{"von_mises_MPa", 1, {}},
-      sed{"strain_energy_density_MPa", 1, {}}, bend{"bending_energy_density_MPa", 1, {}};
-  for (size_t t = 0; t < st.triangles.size(); ++t) {
-    const auto& ts = st.triangles[t];
+  VtuField sigma{"cauchy_stress_MPa", 9, {}}, s2{"principal_min_MPa", 1, {}};
+  for (const auto& ts : st.triangles) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) sigma.values.push_back(ts.cauchy(i, j));
-    s1.values.push_back(ts.principalMax);
     s2.values.push_back(ts.principalMin);
-    vm.values.push_back(ts.vonMises);
-    sed.values.push_back(ts.energyDensity);
-    bend.values.push_back(st.bendingEnergyDensity[t]);
   }
-  out.triangles = {sigma, s1, s2, vm, sed, bend};
+  out.triangles = {sigma, s2};
+  // Every colour quantity of the application (experiment/Quantities.h) but the displacement,
+  // which the points carry as a vector.
+  const QuantityInputs in{&st, &turgidSt, &cc, &x, &turgid};
+  const auto values = triangleQuantities(in);
+  for (int q = 0; q < kQuantityCount; ++q) {
+    if (Quantity(q) == Quantity::Displacement) continue;
+    const QuantityInfo& info = quantityInfo(Quantity(q));
+    out.triangles.push_back(
+        VtuField{std::string(info.key) + "_" + info.unit, 1, values[q]});
+  }
   VtuField disp{"displacement_um", 3, {}}, dispRest{"displacement_from_rest_um", 3, {}};
   for (int v = 0; v < cc.vertexCount(); ++v)
     for (int k = 0; k < 3; ++k) {

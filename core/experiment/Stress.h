@@ -27,8 +27,8 @@ struct StressField {
 StressField computeStress(const Model& model, const Points& x);
 
 /// The fields of a state for export (VTU): per vertex the displacement from the turgid state and
-/// from rest (µm); per triangle the Cauchy stress (9 components), maximum and minimum principal
-/// stress, von Mises stress, membrane and bending energy densities (MPa).
+/// from rest (µm); per triangle the Cauchy stress (9 components), the minimum principal stress
+/// and every colour quantity of experiment/Quantities.h (MPa) but the displacement.
 struct StateFields {
   std::vector<VtuField> points, triangles;
 };
