@@ -31,14 +31,16 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
   auto* colour = new QGroupBox(tr("Colour"));
   auto* form = new QFormLayout(colour);
   field_ = new QComboBox;
+  field_->setObjectName("quantity");
   for (int f = 0; f < kFieldCount; ++f)
     field_->addItem(QString::fromUtf8(fieldName(Field(f))) + " (" +
                         QString::fromUtf8(fieldUnit(Field(f))) + ")",
                     f);
   field_->setToolTip(
       tr("Quantity that colours each wall triangle: in-plane stresses and "
-         "energy densities from the stress read-out (MPa), or the displacement "
-         "from the turgid state (µm)."));
+         "energy densities from the stress read-out (MPa), the displacement "
+         "from the turgid state (µm), or the stress the probe adds: the change "
+         "from the turgid state (MPa, on the diverging map)."));
   map_ = new QComboBox;
   for (int k = 0; k < ColorMap::kKindCount; ++k)
     map_->addItem(QString::fromUtf8(ColorMap::name(ColorMap::Kind(k))), k);
@@ -90,6 +92,14 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
   layout->addStretch(1);
 
   connect(field_, &QComboBox::currentIndexChanged, this, [this] {
+    // A change from the turgid state is signed: shown on the diverging map (zero in the
+    // middle); back on a magnitude, the map it had before.
+    const bool change = quantityInfo(field()).change;
+    if (change != lastFieldWasChange_) {
+      const int wanted = change ? int(ColorMap::Kind::CoolWarm) : int(ColorMap::Kind::Viridis);
+      map_->setCurrentIndex(map_->findData(wanted));
+      lastFieldWasChange_ = change;
+    }
     updateUnits();
     emit fieldChanged(field());
   });

@@ -47,6 +47,7 @@ class DisplayPanel : public QWidget {
   QCheckBox *auto_, *outlines_, *mesh_, *section_, *flip_;
   QDoubleSpinBox *lo_, *hi_;
   QSlider* position_;
+  bool lastFieldWasChange_ = false;
 };
 
 }  // namespace tp::gui

@@ -3,6 +3,7 @@
 // synthetic mouse events, curves are run and cancelled with the keyboard, files are exported and
 // read back, a session is saved and reopened, a bad file is refused with a message, and a
 // screenshot of the whole window is written and checked for content.
+#include <QComboBox>
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
@@ -240,6 +241,19 @@ class WindowTest : public QObject {
     view_->setField(Field::Displacement);
     QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.01);
     view_->setField(Field::VonMises);
+  }
+
+  void stressChangeFromTurgidIsShownAboutZero() {
+    // Chosen in the panel: the view shows it on the diverging map, its automatic range
+    // symmetric about zero; back on von Mises, viridis again.
+    auto* quantity = w_->displayPanel()->findChild<QComboBox*>("quantity");
+    QVERIFY(quantity);
+    quantity->setCurrentIndex(quantity->findData(int(Field::VonMisesChange)));
+    QCOMPARE(int(view_->field()), int(Field::VonMisesChange));
+    QVERIFY(view_->colorMap().diverging());
+    QCOMPARE(view_->colorMap().lo(), -view_->colorMap().hi());
+    quantity->setCurrentIndex(quantity->findData(int(Field::VonMises)));
+    QVERIFY(!view_->colorMap().diverging());
   }
 
   void manualColourRange() {
