@@ -3,32 +3,18 @@
 // the mean of the corners' distances; keys round-trip; the VTU export carries every quantity.
 #include <gtest/gtest.h>
 
-#include <random>
 #include <set>
 
 #include "experiment/Quantities.h"
+#include "support/ModelDerivatives.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
 
-namespace {
-
-Points perturbed(const CellComplex& cc, double amp, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amp, amp);
-  Points y = cc.rest;
-  for (int v = 0; v < y.cols(); ++v)
-    if (!cc.fixed[v])
-      for (int k = 0; k < 3; ++k) y(k, v) += u(rng);
-  return y;
-}
-
-}  // namespace
-
 TEST(Quantities, ChangesFromTurgidAreDifferencesAndVanishThere) {
   auto cc = std::make_shared<CellComplex>(boxTissue(2, 1, 1, 1.0));
   const Model m(cc, Material{});
-  const Points turgid = perturbed(*cc, 0.03, 1), x = perturbed(*cc, 0.05, 2);
+  const Points turgid = test::perturbedRest(*cc, 0.03, 1), x = test::perturbedRest(*cc, 0.05, 2);
   const StressField st = computeStress(m, x), st0 = computeStress(m, turgid);
   const auto v = triangleQuantities({&st, &st0, cc.get(), &x, &turgid});
   const auto at0 = triangleQuantities({&st0, &st0, cc.get(), &turgid, &turgid});
@@ -65,7 +51,7 @@ TEST(Quantities, KeysRoundTripAndTheExportCarriesEveryQuantity) {
 
   auto cc = std::make_shared<CellComplex>(boxTissue(1, 1, 1, 1.0));
   const Model m(cc, Material{});
-  const Points turgid = perturbed(*cc, 0.02, 3), x = perturbed(*cc, 0.04, 4);
+  const Points turgid = test::perturbedRest(*cc, 0.02, 3), x = test::perturbedRest(*cc, 0.04, 4);
   const StateFields f = stateFields(m, x, turgid);
   std::set<std::string> names;
   for (const auto& field : f.triangles) {

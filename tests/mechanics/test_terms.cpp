@@ -9,7 +9,6 @@
 
 #include <cmath>
 #include <map>
-#include <random>
 
 #include "mechanics/Model.h"
 #include "support/ModelDerivatives.h"
@@ -25,24 +24,15 @@ struct Config {
   std::optional<Probe> probe;
 };
 
-Points perturbed(const CellComplex& cc, double amp, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amp, amp);
-  Points y = cc.rest;
-  for (int v = 0; v < y.cols(); ++v)
-    if (!cc.fixed[v])
-      for (int k = 0; k < 3; ++k) y(k, v) += u(rng);
-  return y;
-}
 
 // The configurations on a box tissue of cells of edge s (its top at z = s). The probe (radius
 // 0.3 s) presses 0.05 s into the top.
 std::vector<Config> configurations(const CellComplex& cc, double s, bool degenerate) {
   const double r = 0.3 * s, press = 0.05 * s;
   std::vector<Config> out;
-  out.push_back({"generic", perturbed(cc, 0.05 * s, 7), Probe{Vec3(0.9 * s, 0.45 * s, s + r - press), r}});
+  out.push_back({"generic", test::perturbedRest(cc, 0.05 * s, 7), Probe{Vec3(0.9 * s, 0.45 * s, s + r - press), r}});
   if (!degenerate) return out;
-  out.push_back({"nearly flat", perturbed(cc, 1e-4 * s, 8), std::nullopt});
+  out.push_back({"nearly flat", test::perturbedRest(cc, 1e-4 * s, 8), std::nullopt});
   // A top triangle, one of its edges inside the top face (shared with another top triangle), and
   // one of its free vertices.
   int top = -1;
@@ -56,7 +46,7 @@ std::vector<Config> configurations(const CellComplex& cc, double s, bool degener
   const auto& tri = cc.triangles[top];
   const Vec3 a = cc.rest.col(tri[0]), b = cc.rest.col(tri[1]), c = cc.rest.col(tri[2]);
   const Vec3 up(0, 0, 1);
-  const Points flat = perturbed(cc, 1e-5 * s, 9);
+  const Points flat = test::perturbedRest(cc, 1e-5 * s, 9);
   // The edge of the triangle that is a diagonal of the square face (the longest).
   Vec3 e0 = a, e1 = b, opp = c;
   if ((c - b).norm() > (e1 - e0).norm()) e0 = b, e1 = c, opp = a;
@@ -71,7 +61,7 @@ std::vector<Config> configurations(const CellComplex& cc, double s, bool degener
                  Probe{opp + tiny * (opp - mid).normalized() + (r - press) * up, r}});
   // A sliver: a free top vertex moved to within 1e-3 s of the line of the opposite edge of one
   // of its triangles.
-  Points sliver = perturbed(cc, 0.02 * s, 10);
+  Points sliver = test::perturbedRest(cc, 0.02 * s, 10);
   int v = -1, w0 = -1, w1 = -1;
   for (int t = 0; t < cc.triangleCount() && v < 0; ++t)
     for (int k = 0; k < 3 && v < 0; ++k)

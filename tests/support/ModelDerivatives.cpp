@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "support/FiniteDifference.h"
 
@@ -34,6 +35,16 @@ Points withFree(const Model& m, const Points& base, const Eigen::VectorXd& u) {
 }
 
 }  // namespace
+
+Points perturbedRest(const CellComplex& cc, double amp, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amp, amp);
+  Points y = cc.rest;
+  for (int v = 0; v < y.cols(); ++v)
+    if (!cc.fixed[v])
+      for (int k = 0; k < 3; ++k) y(k, v) += u(rng);
+  return y;
+}
 
 DerivativeErrors modelDerivativeErrors(const Model& m, const Points& x0, double h, int onlyTerm) {
   Evaluation ev;

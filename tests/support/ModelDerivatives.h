@@ -18,6 +18,10 @@ struct DerivativeErrors {
 /// Errors at x with finite-difference step h (µm); onlyTerm < 0: every term. Koiter bending's
 /// own unknowns are eliminated (the energy is minimised over them), so the position Hessian is
 /// the Schur complement of the assembled matrix.
+/// The complex's rest positions with every free vertex moved by uniform random offsets in
+/// [−amp, amp] per component (µm), reproducibly from `seed`.
+Points perturbedRest(const CellComplex& cc, double amp, unsigned seed);
+
 DerivativeErrors modelDerivativeErrors(const Model& m, const Points& x, double h, int onlyTerm = -1);
 
 }  // namespace tp::test
