@@ -1,5 +1,6 @@
 #include "Curves.h"
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -30,6 +31,14 @@ std::string curveName(int siteNumber, const Eigen::Vector3d& site, const Simulat
   std::snprintf(where, sizeof where, "site %d (%.1f, %.1f, %.1f) µm", siteNumber, site.x(),
                 site.y(), site.z());
   return std::string(where) + " · " + describe(p) + (live ? " · drag" : "");
+}
+
+std::string forceText(double force) {
+  if (!std::isfinite(force)) return "—";
+  if (std::abs(force) < 1e-6) return "0";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", force);
+  return buf;
 }
 
 std::string meshErrorText(const NamedCurve& c) {

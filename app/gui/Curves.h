@@ -27,7 +27,13 @@ struct NamedCurve {
   bool meshErrorForce = false;
   std::string meshErrorMethod;
   int preparation = -1;     // the worker's preparation it belongs to (not saved)
+  int colour = -1;          // its colour in the plot's palette, for its whole life (not saved)
 };
+
+/// A probe force (µN) for the screen: four significant digits, and "0" below a piconewton
+/// (1e-6 µN), a hundredth of what an AFM resolves: at first contact the force is the penalty's
+/// round-off, e.g. 1.6e-8 µN, which is not a measurement.
+std::string forceText(double force);
 
 /// "±1.2 %" (or "error not estimated"), for legends and lists.
 std::string meshErrorText(const NamedCurve& c);

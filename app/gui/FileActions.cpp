@@ -77,6 +77,7 @@ bool FileActions::saveSession(const QString& path, QString* error) {
     if (error) *error = QString::fromUtf8(e.what());
     return false;
   }
+  controller_->markCurvesSaved();
   RecentFiles::add(path);
   emit recentFilesChanged();
   return true;
@@ -89,6 +90,7 @@ bool FileActions::exportCurves(const QString& path, QString* error) {
     if (error) *error = QString::fromUtf8(e.what());
     return false;
   }
+  controller_->markCurvesSaved();
   return true;
 }
 
@@ -157,12 +159,14 @@ void FileActions::openSessionDialog() {
   open(path);
 }
 
-void FileActions::saveSessionDialog() {
+bool FileActions::saveSessionDialog() {
   const QString path =
       askSave(tr("Save the session"), "session.json", tr("TissueProbe sessions (*.json)"));
-  if (path.isEmpty()) return;
+  if (path.isEmpty()) return false;
   QString error;
-  report(saveSession(path, &error), tr("session"), path, error);
+  const bool ok = saveSession(path, &error);
+  report(ok, tr("session"), path, error);
+  return ok;
 }
 
 void FileActions::exportPlotDialog() {

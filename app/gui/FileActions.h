@@ -39,7 +39,7 @@ class FileActions : public QObject {
  public slots:
   void openTissueDialog();
   void openSessionDialog();
-  void saveSessionDialog();
+  bool saveSessionDialog();  // false when cancelled or not written
   void exportPlotDialog();
   void exportCurvesDialog();
   void exportCurrentCurveDialog();

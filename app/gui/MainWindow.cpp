@@ -20,6 +20,7 @@
 #include <QToolBar>
 
 #include "BusyIndicator.h"
+#include "Curves.h"
 #include "DisplayPanel.h"
 #include "FileActions.h"
 #include "ParameterPanel.h"
@@ -156,8 +157,9 @@ void MainWindow::createMenus() {
       [this] { showControls(); });
   add(help, tr("&About TissueProbe"), QKeySequence(), tr("About"), [this] {
     QMessageBox::about(this, tr("About TissueProbe"),
-                       tr("TissueProbe: an AFM-style spherical probe indenting a plant tissue of "
-                          "polyhedral cells under turgor.\nUnits: µm, MPa, µN."));
+                       tr("TissueProbe %1: an AFM-style spherical probe indenting a plant tissue "
+                          "of polyhedral cells under turgor.\nUnits: µm, MPa, µN.")
+                           .arg(QCoreApplication::applicationVersion()));
   });
 
   QToolBar* tools = addToolBar(tr("Tools"));
@@ -197,7 +199,9 @@ void MainWindow::wire() {
     const Snapshot& s = controller_->latest();
     probeLabel_->setText(
         s.probeVisible
-            ? tr("depth %1 µm · force %2 µN").arg(s.depth, 0, 'f', 3).arg(s.force, 0, 'g', 4)
+            ? tr("depth %1 µm · force %2 µN")
+                  .arg(s.depth, 0, 'f', 3)
+                  .arg(QString::fromStdString(forceText(s.force)))
             : QString::fromStdString(s.status));
   }, this);
   connect(c, &SimulationController::snapshotReady, probeText, &Throttle::request);
@@ -213,7 +217,7 @@ void MainWindow::wire() {
   // when the worker goes idle.
   connect(c, &SimulationController::curvesChanged, plotUpdate, [this, plotUpdate] {
     if (!controller_->busy() ||
-        plot_->plot()->graphCount() != static_cast<int>(controller_->curves().size()))
+        plot_->curveCount() != static_cast<int>(controller_->curves().size()))
       plotUpdate->now();
     else
       plotUpdate->request();
@@ -280,7 +284,18 @@ void MainWindow::wire() {
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
   // The plot and the files.
   connect(plot_, &PlotPanel::removeRequested, c, &SimulationController::removeCurve);
-  connect(plot_, &PlotPanel::clearRequested, c, &SimulationController::clearCurves);
+  connect(plot_, &PlotPanel::clearRequested, this, [this, c] {
+    // Every curve goes: ask first (they may not be saved anywhere).
+    const int n = static_cast<int>(c->curves().size());
+    if (n == 0) return;
+    const auto answer = QMessageBox::question(
+        this, tr("Remove every curve"),
+        c->hasUnsavedCurves()
+            ? tr("Remove all %n curve(s)? They have not been saved.", "", n)
+            : tr("Remove all %n curve(s)?", "", n),
+        QMessageBox::Yes | QMessageBox::No, QMessageBox::No);
+    if (answer == QMessageBox::Yes) c->clearCurves();
+  });
   connect(files_, &FileActions::recentFilesChanged, this, &MainWindow::updateRecentMenu);
   connect(files_, &FileActions::statusMessage, this,
           [this](const QString& m) { statusBar()->showMessage(m, 5000); });
@@ -315,6 +330,18 @@ void MainWindow::showControls() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {
+  // Curves made since the last save would be lost: save, discard or stay.
+  if (controller_->hasUnsavedCurves()) {
+    const int n = static_cast<int>(controller_->curves().size());
+    const auto answer = QMessageBox::question(
+        this, tr("Unsaved curves"),
+        tr("%n curve(s) have not been saved. Save the session before quitting?", "", n),
+        QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+    if (answer == QMessageBox::Cancel || (answer == QMessageBox::Save && !files_->saveSessionDialog())) {
+      e->ignore();
+      return;
+    }
+  }
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());

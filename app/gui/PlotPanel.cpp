@@ -47,6 +47,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   auto* remove = new QPushButton(tr("Remove"));
   remove->setToolTip(tr("Remove the selected curve"));
   auto* clear = new QPushButton(tr("Clear"));
+  clear->setObjectName("clearCurves");
   clear->setToolTip(tr("Remove every curve"));
   nondim_ = new QCheckBox(tr("Nondimensional"));
   nondim_->setToolTip(
@@ -131,17 +132,33 @@ void PlotPanel::redraw() {
     const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
     QCPGraph* g = plot_->addGraph();
     g->setName(label(c));
-    const QColor colour = kPalette[i % std::size(kPalette)];
+    const int index = c.colour >= 0 ? c.colour : static_cast<int>(i);
+    const QColor colour = kPalette[index % std::size(kPalette)];
     g->setPen(QPen(colour, 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
     g->setScatterStyle(
         QCPScatterStyle(c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5));
-    QVector<double> x, y;
+    // Loading and unloading apart: the unloading branch (a run's way back) is its own graph,
+    // dotted, without a legend entry, so it is not merged into the loading one by depth.
+    QVector<double> x, y, ux, uy;
     for (const CurvePoint& p : c.points)
       if (p.converged && std::isfinite(p.force)) {
-        x.push_back(p.depth * s.depth);
-        y.push_back(p.force * s.force);
+        (p.unloading ? ux : x).push_back(p.depth * s.depth);
+        (p.unloading ? uy : y).push_back(p.force * s.force);
       }
     g->setData(x, y);  // sorted by depth: a drag back and forth draws one curve
+    if (!ux.isEmpty()) {
+      // It starts where loading ended.
+      if (!x.isEmpty()) {
+        ux.prepend(x.back());
+        uy.prepend(y.back());
+      }
+      QCPGraph* u = plot_->addGraph();
+      u->setName(label(c) + tr(" (unloading)"));
+      u->setPen(QPen(colour, 1.8, Qt::DotLine));
+      u->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, colour, 5));
+      u->setData(ux, uy);
+      u->removeFromLegend();
+    }
   }
   if (nd) {
     plot_->xAxis->setLabel(tr("[I] = I / L   (L = %1 µm)").arg(cellSize_, 0, 'f', 2));

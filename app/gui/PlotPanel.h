@@ -27,6 +27,8 @@ class PlotPanel : public QWidget {
   void setNondimensional(bool on);
   /// Index of the curve selected in the list, −1 if none.
   int selectedCurve() const;
+  /// Curves shown (a curve with an unloading branch draws two graphs).
+  int curveCount() const { return static_cast<int>(curves_.size()); }
 
   /// Writes the plot as PNG, SVG or PDF (by the suffix) at the given size in pixels (0: the
   /// widget's size). False with a message on failure.

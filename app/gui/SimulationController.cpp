@@ -135,6 +135,8 @@ void SimulationController::removeCurve(int index) {
 
 void SimulationController::clearCurves() {
   curves_.clear();
+  nextColour_ = 0;
+  unsaved_ = false;
   liveCurve_ = runCurve_ = lastRunCurve_ = -1;
   emit curvesChanged();
 }
@@ -170,11 +172,13 @@ void SimulationController::onSnapshot(const Snapshot& s) {
       c.meshLevel = s.geometry ? s.geometry->meshLevel : -1;
       c.name = uniqueName(curveName(currentSite_ + 1, s.site, s.params, true));
       c.points.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
+      c.colour = nextColour_++;
       curves_.push_back(std::move(c));
       index = static_cast<int>(curves_.size()) - 1;
     }
     if (index >= 0) {
       curves_[index].points.push_back(*s.point);
+      unsaved_ = true;
       emit curvesChanged();
     }
   }
@@ -203,7 +207,9 @@ void SimulationController::onRunStarted(int, bool rerun) {
   c.preparation = latest_.preparation;
   c.meshLevel = latest_.geometry ? latest_.geometry->meshLevel : -1;
   c.name = uniqueName(curveName(currentSite_ + 1, latest_.site, latest_.params, false));
+  c.colour = nextColour_++;
   curves_.push_back(std::move(c));
+  unsaved_ = true;
   runCurve_ = lastRunCurve_ = static_cast<int>(curves_.size()) - 1;
   emit curvesChanged();
 }
@@ -262,6 +268,9 @@ void SimulationController::applySession(const SessionState& session) {
   params_ = session.params;
   schedule_ = session.schedule;
   curves_ = session.curves;
+  nextColour_ = 0;
+  for (auto& c : curves_) c.colour = nextColour_++;
+  unsaved_ = false;  // as saved
   liveCurve_ = runCurve_ = lastRunCurve_ = -1;
   pendingSites_ = session.sites;
   pendingCurrentSite_ = session.currentSite;

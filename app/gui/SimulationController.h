@@ -52,6 +52,10 @@ class SimulationController : public QObject {
   const SimulationParams& params() const { return params_; }
   const Schedule& schedule() const { return schedule_; }
   const std::vector<NamedCurve>& curves() const { return curves_; }
+  /// Curves made since the session was last saved (or its curves exported), which closing the
+  /// window or clearing would lose.
+  bool hasUnsavedCurves() const { return unsaved_ && !curves_.empty(); }
+  void markCurvesSaved() { unsaved_ = false; }
   const Snapshot& latest() const { return latest_; }
   const QString& tissuePath() const { return tissuePath_; }
   bool busy() const { return busy_; }
@@ -100,6 +104,8 @@ class SimulationController : public QObject {
   std::vector<Eigen::Vector3d> sites_, pendingSites_;  // pending: for the tissue being loaded
   int currentSite_ = -1, pendingCurrentSite_ = -1;
   std::vector<NamedCurve> curves_;
+  int nextColour_ = 0;   // palette index of the next new curve: removing one recolours none
+  bool unsaved_ = false;
   int liveCurve_ = -1, runCurve_ = -1, lastRunCurve_ = -1;
   int lastPreparation_ = -1;
   Snapshot latest_;

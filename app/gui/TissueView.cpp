@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "ColorBar.h"
+#include "Curves.h"
 #include "Resources.h"
 
 namespace tp::gui {
@@ -468,7 +469,7 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
     p.drawText(area.adjusted(10 * scale, 8 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop,
                tr("depth %1 µm   force %2 µN%3")
                    .arg(snapshot_.depth, 0, 'f', 3)
-                   .arg(snapshot_.force, 0, 'g', 4)
+                   .arg(QString::fromStdString(forceText(snapshot_.force)))
                    .arg(targetDepth_ >= 0 && std::abs(targetDepth_ - snapshot_.depth) > 5e-4
                             ? tr("   → %1 µm").arg(targetDepth_, 0, 'f', 3)
                             : QString()));

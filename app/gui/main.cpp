@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   std::setlocale(LC_NUMERIC, "C");  // numbers in files keep a decimal point in every locale
   QApplication::setOrganizationName("TissueProbe");
   QApplication::setApplicationName("TissueProbe");
+  QApplication::setApplicationVersion(TP_VERSION);
   QApplication::setApplicationVersion("0.1");
 
   QCommandLineParser parser;

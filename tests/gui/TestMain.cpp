@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   std::setlocale(LC_NUMERIC, "C");
   QApplication::setOrganizationName("TissueProbeTest");
   QApplication::setApplicationName("TissueProbeTest");
+  QApplication::setApplicationVersion(TP_VERSION);
   QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, config.path());
   QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, config.path());
   // TP_GUI_TEST_CLASS=CameraTest runs one class (the arguments then select its functions).

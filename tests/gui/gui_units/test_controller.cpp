@@ -348,9 +348,15 @@ class ControllerTest : public QObject {
     s.tissuePath = tissue_.toStdString();
     c.applySession(s);
     QSignalSpy changed(&c, &SimulationController::curvesChanged);
+    // A session's curves are as saved, each with its own colour, which removing another keeps.
+    QVERIFY(!c.hasUnsavedCurves());
+    QCOMPARE(c.curves()[0].colour, 0);
+    QCOMPARE(c.curves()[2].colour, 2);
     c.removeCurve(1);
     QCOMPARE(int(c.curves().size()), 2);
     QCOMPARE(c.curves()[1].name, std::string("c"));
+    QCOMPARE(c.curves()[0].colour, 0);
+    QCOMPARE(c.curves()[1].colour, 2);
     c.removeCurve(7);  // out of range: ignored
     c.clearCurves();
     QVERIFY(c.curves().empty());

@@ -167,6 +167,14 @@ class FilesTest : public QObject {
     QCOMPARE(std::string((std::istreambuf_iterator<char>(in)), {}), text);
   }
 
+  void forcesBelowAPiconewtonReadZero() {
+    QCOMPARE(forceText(1.605e-8), std::string("0"));   // first contact: round-off
+    QCOMPARE(forceText(-3e-7), std::string("0"));
+    QCOMPARE(forceText(4.22717), std::string("4.227"));
+    QCOMPARE(forceText(0.0123456), std::string("0.01235"));  // a plasmolysed wall, 10 nN
+    QCOMPARE(forceText(2e-6), std::string("2e-06"));
+  }
+
   void curveNamesTellSiteAndParameters() {
     SimulationParams p;
     p.pressure = 0;

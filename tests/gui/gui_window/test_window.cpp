@@ -3,7 +3,11 @@
 // synthetic mouse events, curves are run and cancelled with the keyboard, files are exported and
 // read back, a session is saved and reopened, a bad file is refused with a message, and a
 // screenshot of the whole window is written and checked for content.
+#include <QApplication>
 #include <QComboBox>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QTimer>
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
@@ -474,6 +478,45 @@ class WindowTest : public QObject {
     sendMouse(view_, QEvent::MouseButtonRelease, start, Qt::LeftButton, Qt::NoButton);
     const double r = timer.nsecsElapsed() / 1e9;
     qInfo("default meristem, turning for %.1f s: %.1f fps", r, (view_->frameCount() - frames1) / r);
+  }
+
+  // Answers the next modal message box with `button` once it shows; its text goes to `text`.
+  void answerNextMessageBox(QMessageBox::StandardButton button, QString* text) {
+    QTimer::singleShot(50, this, [this, button, text] {
+      auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+      if (!box) return answerNextMessageBox(button, text);  // not shown yet
+      *text = box->text();
+      box->button(button)->click();
+    });
+  }
+
+  void clearAsksFirst() {
+    QVERIFY(!c_->curves().empty());
+    const int n = static_cast<int>(c_->curves().size());
+    auto* clear = w_->plotPanel()->findChild<QPushButton*>("clearCurves");
+    QVERIFY(clear);
+    QString text;
+    answerNextMessageBox(QMessageBox::No, &text);
+    clear->click();
+    QVERIFY2(text.contains(QString::number(n)), qPrintable(text));
+    QCOMPARE(int(c_->curves().size()), n);  // kept
+  }
+
+  void quittingWithUnsavedCurvesAsks() {
+    // A curve made after the last save: closing asks, and Cancel keeps the window open.
+    c_->requestDepth(0.05);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.05 && !c_->busy(), 60000);
+    QVERIFY(c_->hasUnsavedCurves());
+    QString text;
+    answerNextMessageBox(QMessageBox::Cancel, &text);
+    QVERIFY(!w_->close());
+    QVERIFY2(text.contains("not been saved"), qPrintable(text));
+    QVERIFY(w_->isVisible());
+    QVERIFY(c_->hasUnsavedCurves());
+    // Exported: nothing left to lose, no question.
+    QString error;
+    QVERIFY2(w_->fileActions()->exportCurves(dir_.path() + "/all.csv", &error), qPrintable(error));
+    QVERIFY(!c_->hasUnsavedCurves());
   }
 
   void layoutIsRemembered() {

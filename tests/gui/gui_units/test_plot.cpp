@@ -1,0 +1,58 @@
+// The force-depth plot: a curve's unloading branch is drawn apart from its loading branch
+// (dotted, from the deepest loading point, no second legend entry), and each curve keeps its
+// colour when another is removed.
+#include <QTest>
+
+#include <qcustomplot.h>
+
+#include "PlotPanel.h"
+#include "TestMain.h"
+
+using namespace tp::gui;
+
+namespace {
+
+NamedCurve curve(const char* name, int colour, bool unload) {
+  NamedCurve c;
+  c.name = name;
+  c.colour = colour;
+  for (double d : {0.0, 0.1, 0.2, 0.3}) c.points.push_back(tp::CurvePoint{d, 10 * d, 1, 0.0, true, false});
+  if (unload)
+    for (double d : {0.2, 0.1, 0.0}) c.points.push_back(tp::CurvePoint{d, 5 * d, 1, 0.0, true, true});
+  return c;
+}
+
+}  // namespace
+
+class PlotTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void unloadingIsItsOwnDottedBranch() {
+    PlotPanel panel;
+    panel.setCurves({curve("a", 0, true)}, 5.0);
+    QCustomPlot* plot = panel.plot();
+    QCOMPARE(plot->graphCount(), 2);
+    QCOMPARE(plot->legend->itemCount(), 1);
+    QCOMPARE(plot->graph(0)->data()->size(), 4);
+    QCOMPARE(plot->graph(1)->data()->size(), 4);  // from the deepest loading point, then three
+    QCOMPARE(plot->graph(1)->pen().style(), Qt::DotLine);
+    QCOMPARE(plot->graph(1)->pen().color(), plot->graph(0)->pen().color());
+    // Unloading at 0.1 µm reads 0.5 µN, loading 1 µN: not merged into one curve by depth.
+    const auto it = plot->graph(1)->data()->findBegin(0.1, false);
+    QCOMPARE(it->key, 0.1);
+    QCOMPARE(it->value, 0.5);
+  }
+
+  void coloursFollowTheCurveNotItsPlace() {
+    PlotPanel panel;
+    panel.setCurves({curve("a", 0, false), curve("b", 1, false), curve("c", 2, false)}, 5.0);
+    const QColor third = panel.plot()->graph(2)->pen().color();
+    panel.setCurves({curve("a", 0, false), curve("c", 2, false)}, 5.0);  // b removed
+    QCOMPARE(panel.curveCount(), 2);
+    QCOMPARE(panel.plot()->graph(1)->pen().color(), third);
+  }
+};
+
+TP_GUI_TEST(PlotTest)
+#include "test_plot.moc"
