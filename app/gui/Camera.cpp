@@ -162,6 +162,15 @@ void Camera::setStandardView(StandardView view) {
   fitToScene();
 }
 
+void Camera::lookAlong(const Eigen::Vector3d& direction) {
+  if (!(direction.norm() > 0)) return;
+  const Eigen::Vector3d back = -direction.normalized();  // the camera's z: towards the eye
+  Eigen::Vector3d right = Eigen::Vector3d::UnitZ().cross(back);
+  if (right.norm() < 1e-6) right = Eigen::Vector3d::UnitX();  // looking straight down or up
+  right.normalize();
+  orientation_ = fromAxes(right, back.cross(right), back);
+}
+
 void Camera::reset() {
   setStandardView(StandardView::Front);
   rotateBy(-25.0, 25.0);  // a little from the left and from above

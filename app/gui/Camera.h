@@ -66,6 +66,9 @@ class Camera {
   const Eigen::AlignedBox3d& sceneBounds() const { return scene_; }
   /// Keeps the orientation, centres the box and backs off until it fits the view.
   void fit(const Eigen::AlignedBox3d& box);
+  /// Turns the camera to look along `direction` (from the eye into the scene), its up as close
+  /// to world +z as the direction allows; the target and distance stay.
+  void lookAlong(const Eigen::Vector3d& direction);
   void fitToScene() { fit(scene_); }
   void setStandardView(StandardView view);
   /// A three-quarter view from the front, slightly from above, fitted to the scene.

@@ -69,6 +69,20 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
                        "that the force does not depend on it (see the mesh level and its "
                        "estimated error in the status bar)."));
   form->addRow(mesh_);
+  deformation_ = new QDoubleSpinBox;
+  deformation_->setObjectName("deformationScale");
+  deformation_->setRange(1.0, 50.0);
+  deformation_->setDecimals(0);
+  deformation_->setSingleStep(5.0);
+  deformation_->setPrefix(tr("×"));
+  deformation_->setValue(1.0);
+  deformation_->setToolTip(
+      tr("Draw the displacement from the turgid state magnified: a 1 µm dimple under a 1 µm "
+         "probe on a 40 µm dome is hard to see at ×1. The numbers (depth, force, fields) stay "
+         "true; the view says \"displacement ×N\" while N > 1."));
+  form->addRow(tr("Displacement"), deformation_);
+  connect(deformation_, &QDoubleSpinBox::valueChanged, this,
+          &DisplayPanel::deformationScaleChanged);
   layout->addWidget(colour);
 
   auto* sectionBox = new QGroupBox(tr("Section"));

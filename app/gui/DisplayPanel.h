@@ -38,6 +38,7 @@ class DisplayPanel : public QWidget {
   void outlinesChanged(bool on);
   void meshChanged(bool on);
   void sectionChanged(bool enabled, int axis, double fraction, bool flip);
+  void deformationScaleChanged(double scale);
 
  private:
   void emitSection();
@@ -45,7 +46,7 @@ class DisplayPanel : public QWidget {
 
   QComboBox *field_, *map_, *axis_;
   QCheckBox *auto_, *outlines_, *mesh_, *section_, *flip_;
-  QDoubleSpinBox *lo_, *hi_;
+  QDoubleSpinBox *lo_, *hi_, *deformation_;
   QSlider* position_;
   bool lastFieldWasChange_ = false;
 };

@@ -277,6 +277,8 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::fieldChanged, view_, &TissueView::setField);
   connect(display_, &DisplayPanel::colorMapChanged, view_, &TissueView::setColorMapKind);
   connect(display_, &DisplayPanel::autoRangeChanged, view_, &TissueView::setAutoRange);
+  connect(display_, &DisplayPanel::deformationScaleChanged, view_,
+          &TissueView::setDeformationScale);
   connect(display_, &DisplayPanel::rangeChanged, view_, &TissueView::setRange);
   connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);

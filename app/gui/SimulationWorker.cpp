@@ -569,6 +569,7 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
   const CellComplex& cc = s.complex();
   const Points& x = prepared ? s.site->indentation->state() : cc.rest;
   snap.positions = toFloats(x);
+  if (prepared) snap.turgidPositions = toFloats(s.site->indentation->turgidState());
   const StressField* turgidStress = nullptr;
   if (prepared) {
     // The turgid state's stress, once per preparation (the "change from turgid" quantities).

@@ -75,6 +75,7 @@ struct Snapshot {
   };
   std::shared_ptr<const TissueGeometry> geometry;
   std::vector<float> positions;                        // 3V, µm
+  std::vector<float> turgidPositions;                  // 3V, the turgid state (empty at rest)
   std::array<std::vector<float>, kFieldCount> fields;  // T values each, units of fieldUnit
   std::vector<double> cellVolumes;                     // C, current volumes, µm³
   Phase phase = Phase::Rest;

@@ -89,10 +89,33 @@ std::optional<ClipPlane> TissueView::clipPlane() const {
   return p;
 }
 
+void TissueView::setDeformationScale(double scale) {
+  scale = std::clamp(scale, 1.0, 50.0);
+  if (scale == deformationScale_) return;
+  deformationScale_ = scale;
+  applyDeformationScale();
+  buffersDirty_ = true;
+  pickerDirty_ = true;
+  update();
+}
+
+// x_shown = x_turgid + s (x − x_turgid); the probe's centre moves s times its depth, so it sits
+// in the magnified dimple. The depth, the force and the fields stay those of the source.
+void TissueView::applyDeformationScale() {
+  snapshot_ = source_;
+  const double s = deformationScale_;
+  if (s == 1.0 || source_.turgidPositions.size() != source_.positions.size()) return;
+  for (size_t i = 0; i < snapshot_.positions.size(); ++i)
+    snapshot_.positions[i] = float(source_.turgidPositions[i] +
+                                   s * (source_.positions[i] - source_.turgidPositions[i]));
+  snapshot_.contactCenter = source_.contactCenter + (s - 1.0) * source_.depth * source_.axis;
+}
+
 void TissueView::setSnapshot(const Snapshot& s) {
   const bool newTissue = !s.empty() && (snapshot_.empty() || s.phase == Snapshot::Phase::Rest ||
                                         QString::fromStdString(s.geometry->path) != lastPath_);
-  snapshot_ = s;
+  source_ = s;
+  applyDeformationScale();
   awaitingSnapshot_ = false;
   if (drag_ == Drag::Depth) sendPendingDepth();  // the solver is free: the newest depth
   if (!s.probeVisible || std::abs(s.depth - targetDepth_) < 1e-6)
@@ -101,9 +124,9 @@ void TissueView::setSnapshot(const Snapshot& s) {
   pickerDirty_ = true;
   if (!s.empty()) {
     lastPath_ = QString::fromStdString(s.geometry->path);
-    Eigen::AlignedBox3d b = boundsOf(s.positions);
+    Eigen::AlignedBox3d b = boundsOf(snapshot_.positions);
     if (s.probeVisible) {
-      const Eigen::Vector3d c = s.probeCenter();
+      const Eigen::Vector3d c = snapshot_.probeCenter();
       b.extend(c + Eigen::Vector3d::Constant(s.probeRadius));
       b.extend(c - Eigen::Vector3d::Constant(s.probeRadius));
     }
@@ -231,8 +254,18 @@ void TissueView::zoomToProbe() {
   const double cell = snapshot_.geometry->meanCellSize;
   const double r = std::max(4.0 * snapshot_.probeRadius, 1.5 * (cell > 0 ? cell : 1.0));
   const Eigen::Vector3d c = snapshot_.probeCenter();
-  camera_.fit(
-      Eigen::AlignedBox3d(c - Eigen::Vector3d::Constant(r), c + Eigen::Vector3d::Constant(r)));
+  // Seen from the probe's side, 40° off its axis, so that neither the tissue nor the probe
+  // hides the contact and the dimple shows in relief; on the side the camera already faces.
+  const Eigen::Vector3d axis = snapshot_.axis.normalized();
+  Eigen::Vector3d side = camera_.viewDirection() - camera_.viewDirection().dot(axis) * axis;
+  if (side.norm() < 1e-6) side = axis.unitOrthogonal();
+  camera_.lookAlong(std::cos(40.0 * M_PI / 180) * axis + std::sin(40.0 * M_PI / 180) * side.normalized());
+  // The box holds the probe where it is drawn and where it truly is (they differ by the
+  // deformation scale): the magnified dimple and the surface around it both in view.
+  Eigen::AlignedBox3d box(c - Eigen::Vector3d::Constant(r), c + Eigen::Vector3d::Constant(r));
+  box.extend(source_.probeCenter() + Eigen::Vector3d::Constant(r));
+  box.extend(source_.probeCenter() - Eigen::Vector3d::Constant(r));
+  camera_.fit(box);
   update();
 }
 
@@ -328,7 +361,8 @@ void TissueView::mouseMoveEvent(QMouseEvent* e) {
     case Drag::Depth: {
       // Down presses in: a hundred pixels per probe radius, whatever the zoom. The probe's
       // target follows the mouse at once; the tissue follows as the worker sends equilibria.
-      const double umPerPixel = std::max(snapshot_.probeRadius, 0.1) / 100.0;
+      // (Divided by the deformation scale: the probe drawn stays under the mouse.)
+      const double umPerPixel = std::max(snapshot_.probeRadius, 0.1) / 100.0 / deformationScale_;
       pendingDepth_ = std::max(0.0, dragStartDepth_ + (pos.y() - pressPos_.y()) * umPerPixel);
       targetDepth_ = pendingDepth_;
       // One request at a time: the next leaves when this one's equilibrium comes back, so the
@@ -435,7 +469,8 @@ GlRenderer::Frame TissueView::frame(const Camera& cam) const {
   f.probeRadius = float(snapshot_.probeRadius);
   f.probeAxis = snapshot_.axis.cast<float>();
   if (snapshot_.probeVisible && targetDepth_ >= 0)
-    f.targetCenter = (snapshot_.probeCenter() + (targetDepth_ - snapshot_.depth) * snapshot_.axis)
+    f.targetCenter = (snapshot_.probeCenter() +
+                      deformationScale_ * (targetDepth_ - snapshot_.depth) * snapshot_.axis)
                          .cast<float>();
   // The probe's stem (the cantilever's direction) keeps the site visible from afar.
   const double extent =
@@ -467,11 +502,14 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
     p.setFont(font);
     p.setPen(QColor(20, 20, 20));
     p.drawText(area.adjusted(10 * scale, 8 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop,
-               tr("depth %1 µm   force %2 µN%3")
+               tr("depth %1 µm   force %2 µN%3%4")
                    .arg(snapshot_.depth, 0, 'f', 3)
                    .arg(QString::fromStdString(forceText(snapshot_.force)))
                    .arg(targetDepth_ >= 0 && std::abs(targetDepth_ - snapshot_.depth) > 5e-4
                             ? tr("   → %1 µm").arg(targetDepth_, 0, 'f', 3)
+                            : QString())
+                   .arg(deformationScale_ != 1.0
+                            ? tr("\ndisplacement ×%1").arg(deformationScale_, 0, 'g', 3)
                             : QString()));
   }
 }

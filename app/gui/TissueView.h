@@ -31,7 +31,7 @@ class TissueView : public QOpenGLWidget {
 
   Camera& camera() { return camera_; }
   const Camera& camera() const { return camera_; }
-  const Snapshot& snapshot() const { return snapshot_; }
+  const Snapshot& snapshot() const { return source_; }
   const ColorMap& colorMap() const { return map_; }
   Field field() const { return field_; }
   bool autoRange() const { return autoRange_; }
@@ -47,6 +47,12 @@ class TissueView : public QOpenGLWidget {
 
  public slots:
   void setSnapshot(const tp::gui::Snapshot& snapshot);
+  /// Draws the displacement from the turgid state magnified `scale` times (1 to 50), the probe
+  /// moved with it so that it stays in its dimple; numbers stay true.
+  void setDeformationScale(double scale);
+  double deformationScale() const { return deformationScale_; }
+  /// The snapshot as drawn (positions and probe magnified by the deformation scale).
+  const Snapshot& shownSnapshot() const { return snapshot_; }
   void setField(tp::gui::Field field);
   void setColorMapKind(tp::gui::ColorMap::Kind kind);
   void setAutoRange(bool on);
@@ -106,7 +112,10 @@ class TissueView : public QOpenGLWidget {
   double sectionPosition() const;
 
   Camera camera_;
-  Snapshot snapshot_;
+  Snapshot source_;    // as the worker sent it
+  Snapshot snapshot_;  // as drawn: source_ with the deformation scale applied
+  double deformationScale_ = 1.0;
+  void applyDeformationScale();
   ColorMap map_;
   Field field_ = Field::VonMises;
   bool autoRange_ = true;

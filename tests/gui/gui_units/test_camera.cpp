@@ -25,6 +25,19 @@ class CameraTest : public QObject {
   Q_OBJECT
 
  private slots:
+  void lookAlongTurnsTheViewKeepingZUp() {
+    Camera cam;
+    cam.setViewport(800, 600);
+    for (const Eigen::Vector3d d : {Eigen::Vector3d(0.3, -0.5, -0.8), Eigen::Vector3d(1, 0, 0),
+                                    Eigen::Vector3d(0, 0, -1)}) {
+      cam.lookAlong(d);
+      QVERIFY((cam.viewDirection() - d.normalized()).norm() < 1e-12);
+      QVERIFY(std::abs(cam.up().dot(cam.viewDirection())) < 1e-12);
+      QVERIFY(std::abs(cam.right().z()) < 1e-12);  // no roll: the horizon stays level
+      if (std::abs(d.normalized().z()) < 0.99) QVERIFY(cam.up().z() > 0);
+    }
+  }
+
   void fitPutsTheBoxInsideTheView_data() {
     QTest::addColumn<int>("width");
     QTest::addColumn<int>("height");

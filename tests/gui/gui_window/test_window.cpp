@@ -5,6 +5,7 @@
 // screenshot of the whole window is written and checked for content.
 #include <QApplication>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QMessageBox>
 #include <QPushButton>
 #include <QTimer>
@@ -247,6 +248,37 @@ class WindowTest : public QObject {
     view_->setField(Field::VonMises);
   }
 
+  void deformationScaleMagnifiesTheDimple() {
+    c_->requestDepth(0.5);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.5 && !c_->busy(), 60000);
+    const Snapshot truth = view_->snapshot();
+    QVERIFY(truth.turgidPositions.size() == truth.positions.size());
+    const QImage plain = view_->grabFramebuffer();
+    auto* scale = w_->displayPanel()->findChild<QDoubleSpinBox*>("deformationScale");
+    QVERIFY(scale);
+    scale->setValue(20);
+    QCOMPARE(view_->deformationScale(), 20.0);
+    const Snapshot& shown = view_->shownSnapshot();
+    // The vertex that moved most: drawn at turgid + 20 × its displacement.
+    size_t most = 0;
+    double moved = 0;
+    for (size_t i = 0; i < truth.positions.size(); ++i) {
+      const double d = std::abs(truth.positions[i] - truth.turgidPositions[i]);
+      if (d > moved) moved = d, most = i;
+    }
+    QVERIFY(moved > 0.1);
+    QVERIFY(std::abs(shown.positions[most] -
+                     (truth.turgidPositions[most] + 20 * (truth.positions[most] - truth.turgidPositions[most]))) < 1e-3);
+    QVERIFY((shown.probeCenter() - truth.contactCenter - 20 * 0.5 * truth.axis).norm() < 1e-9);
+    QCOMPARE(view_->snapshot().depth, 0.5);  // numbers stay true
+    QCOMPARE(view_->snapshot().force, truth.force);
+    QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.001);
+    scale->setValue(1);
+    QCOMPARE(view_->shownSnapshot().positions, view_->snapshot().positions);
+    c_->requestDepth(0.0);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.0 && !c_->busy(), 60000);
+  }
+
   void stressChangeFromTurgidIsShownAboutZero() {
     // Chosen in the panel: the view shows it on the diverging map, its automatic range
     // symmetric about zero; back on von Mises, viridis again.
@@ -308,7 +340,7 @@ class WindowTest : public QObject {
     const auto& run = c_->curves().back();
     QCOMPARE(int(run.points.size()), 4);
     for (int i = 1; i < 4; ++i) QVERIFY(run.points[i].force > run.points[i - 1].force);
-    QCOMPARE(w_->plotPanel()->plot()->graphCount(), curves + 1);
+    QCOMPARE(w_->plotPanel()->curveCount(), curves + 1);
 
     // Enough steps that the run cannot finish while the key press travels (each step of the
     // small tissue takes milliseconds): cancelled, the curve stops short and says so.
@@ -376,7 +408,7 @@ class WindowTest : public QObject {
     QVERIFY2(w_->fileActions()->openSession(path, &error), qPrintable(error));
     QCOMPARE(int(c_->curves().size()), int(names.size()));
     for (size_t i = 0; i < names.size(); ++i) QCOMPARE(c_->curves()[i].name, names[i].name);
-    QCOMPARE(w_->plotPanel()->plot()->graphCount(), int(names.size()));
+    QCOMPARE(w_->plotPanel()->curveCount(), int(names.size()));
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
     waitIdle();
     QVERIFY((c_->latest().site - site).norm() < 0.5);  // the last site, prepared again
