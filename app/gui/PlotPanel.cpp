@@ -6,6 +6,7 @@
 #include <QListWidget>
 #include <QPdfWriter>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSaveFile>
 #include <QSvgGenerator>
 #include <QVBoxLayout>
@@ -42,7 +43,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   list_->setObjectName("curveList");
   list_->setToolTip(tr("Curves on the plot; select one to remove it"));
   list_->setMaximumWidth(220);
-  list_->setTextElideMode(Qt::ElideMiddle);
+  list_->setTextElideMode(Qt::ElideRight);  // the site first, then as much as fits
   list_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   auto* remove = new QPushButton(tr("Remove"));
   remove->setToolTip(tr("Remove the selected curve"));
@@ -93,6 +94,15 @@ QString label(const NamedCurve& c) {
   return text;
 }
 
+// The legend's shorter entry: the name without the site's coordinates (they are in the list
+// and its tooltips) and the error, so that the legend in the top-left corner stays clear of
+// curves rising to the right.
+QString legendLabel(const NamedCurve& c) {
+  QString name = QString::fromStdString(c.name);
+  name.remove(QRegularExpression(QStringLiteral(" \\([^()]*\\) µm")));
+  return name + " · " + QString::fromStdString(meshErrorText(c));
+}
+
 QString tooltip(const NamedCurve& c) {
   QString tip = label(c);
   if (c.meshError >= 0)
@@ -131,7 +141,7 @@ void PlotPanel::redraw() {
     const NamedCurve& c = curves_[i];
     const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
     QCPGraph* g = plot_->addGraph();
-    g->setName(label(c));
+    g->setName(legendLabel(c));
     const int index = c.colour >= 0 ? c.colour : static_cast<int>(i);
     const QColor colour = kPalette[index % std::size(kPalette)];
     g->setPen(QPen(colour, 1.8, c.live ? Qt::DashLine : Qt::SolidLine));

@@ -1,6 +1,7 @@
 // The force-depth plot: a curve's unloading branch is drawn apart from its loading branch
 // (dotted, from the deepest loading point, no second legend entry), and each curve keeps its
 // colour when another is removed.
+#include <QListWidget>
 #include <QTest>
 
 #include <qcustomplot.h>
@@ -42,6 +43,19 @@ class PlotTest : public QObject {
     const auto it = plot->graph(1)->data()->findBegin(0.1, false);
     QCOMPARE(it->key, 0.1);
     QCOMPARE(it->value, 0.5);
+  }
+
+  void legendEntriesAreShortAndTheListKeepsTheSite() {
+    PlotPanel panel;
+    NamedCurve c = curve("a", 0, false);
+    c.name = "site 2 (13.8, -29.8, 32.3) µm · E 100 MPa, p 0.8 MPa, r 1 µm · drag";
+    panel.setCurves({c}, 5.0);
+    QCOMPARE(panel.plot()->graph(0)->name(),
+             QString("site 2 · E 100 MPa, p 0.8 MPa, r 1 µm · drag · error not estimated"));
+    auto* list = panel.findChild<QListWidget*>("curveList");
+    QVERIFY(list);
+    QVERIFY(list->item(0)->text().startsWith("site 2 (13.8, -29.8, 32.3) µm"));
+    QCOMPARE(list->textElideMode(), Qt::ElideRight);
   }
 
   void coloursFollowTheCurveNotItsPlace() {
