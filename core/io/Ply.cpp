@@ -1,12 +1,12 @@
 #include "io/Ply.h"
 
+// The tissue interpretation of a PLY table (see Ply.h for what is read and how faces become walls
+// and cells); the table itself, its types and its errors are io/PlyTable.*.
+
 #include <algorithm>
-#include <bit>
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -17,181 +17,22 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "io/PlyTable.h"
+
 namespace tp {
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Scalar types and number parsing
-
-enum class Scalar : std::uint8_t {
-  Int8,
-  UInt8,
-  Int16,
-  UInt16,
-  Int32,
-  UInt32,
-  Float32,
-  Float64,
-  Unknown
-};
-
-Scalar scalarFromName(std::string_view s) {
-  if (s == "char" || s == "int8") return Scalar::Int8;
-  if (s == "uchar" || s == "uint8") return Scalar::UInt8;
-  if (s == "short" || s == "int16") return Scalar::Int16;
-  if (s == "ushort" || s == "uint16") return Scalar::UInt16;
-  if (s == "int" || s == "int32") return Scalar::Int32;
-  if (s == "uint" || s == "uint32") return Scalar::UInt32;
-  if (s == "float" || s == "float32") return Scalar::Float32;
-  if (s == "double" || s == "float64") return Scalar::Float64;
-  return Scalar::Unknown;
-}
-
-std::size_t scalarSize(Scalar t) {
-  switch (t) {
-    case Scalar::Int8:
-    case Scalar::UInt8:
-      return 1;
-    case Scalar::Int16:
-    case Scalar::UInt16:
-      return 2;
-    case Scalar::Int32:
-    case Scalar::UInt32:
-    case Scalar::Float32:
-      return 4;
-    case Scalar::Float64:
-      return 8;
-    case Scalar::Unknown:
-      break;
-  }
-  return 0;
-}
-
-bool isInteger(Scalar t) {
-  return t != Scalar::Float32 && t != Scalar::Float64 && t != Scalar::Unknown;
-}
-
-std::pair<long long, long long> integerRange(Scalar t) {
-  switch (t) {
-    case Scalar::Int8:
-      return {-128, 127};
-    case Scalar::UInt8:
-      return {0, 255};
-    case Scalar::Int16:
-      return {-32768, 32767};
-    case Scalar::UInt16:
-      return {0, 65535};
-    case Scalar::Int32:
-      return {-2147483648LL, 2147483647LL};
-    case Scalar::UInt32:
-      return {0, 4294967295LL};
-    default:
-      break;
-  }
-  return {0, 0};
-}
-
-bool isBlank(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-void splitWords(std::string_view line, std::vector<std::string_view>& words) {
-  words.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && isBlank(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !isBlank(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-// A piece of file content for a message: at most 40 characters, control bytes escaped, because
-// the "text" may be binary garbage.
-std::string quoted(std::string_view s) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < s.size() && i < 40; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c < 32 || c >= 127) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  if (s.size() > 40) out += "...";
-  return out + "'";
-}
-
-// from_chars rejects a leading '+', which some writers emit.
-std::string_view withoutPlus(std::string_view s) {
-  return s.size() > 1 && s[0] == '+' && s[1] != '-' ? s.substr(1) : s;
-}
-
-bool parseInteger(std::string_view s, long long& v) {
-  s = withoutPlus(s);
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc() && end == s.data() + s.size();
-}
-
-bool parseReal(std::string_view s, double& v) {
-  s = withoutPlus(s);
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc() && end == s.data() + s.size();
-}
+using ply::quoted;
 
 template <class Int>
 std::string str(Int v) {
   return std::to_string(v);
 }
 
-std::string str(double v) {  // shortest form that reads back exactly
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+std::string str(double v) { return ply::numberText(v); }
 
-// ---------------------------------------------------------------------------------------------
-// Header
-
-struct Property {
-  std::string name;
-  bool isList = false;
-  Scalar type = Scalar::Unknown;       // the scalar type, or a list's item type
-  Scalar countType = Scalar::Unknown;  // lists only
-  std::string typeText;                // as written, for messages about unknown types
-  int line = 0;                        // header line
-  bool knownType() const {
-    return type != Scalar::Unknown && (!isList || countType != Scalar::Unknown);
-  }
-};
-
-// What the reader does with a property.
-enum class Role : std::uint8_t { Ignore, X, Y, Z, Fixed, Indices, Cell, Neighbor, Wall, Count };
-
-struct Element {
-  std::string name;
-  std::uint64_t count = 0;
-  std::vector<Property> properties;
-  std::vector<Role> roles;  // one per property
-  int line = 0;             // header line of the element
-  bool allKnown() const {
-    return std::all_of(properties.begin(), properties.end(),
-                       [](const Property& p) { return p.knownType(); });
-  }
-};
-
-enum class Format { Ascii, BinaryLittle, BinaryBig };
-
-// Semantic data read from the file, before it becomes a CellComplex.
+// The faces as read, before they become a CellComplex.
 struct RawFaces {
   std::vector<int> verts;                       // all polygons, concatenated
   std::vector<std::size_t> start{0};            // F + 1 offsets into verts
@@ -200,597 +41,57 @@ struct RawFaces {
   std::span<int> of(int f) { return {verts.data() + start[f], start[f + 1] - start[f]}; }
 };
 
-class PlyReader {
+// Which property of an element plays which part (-1: absent).
+struct VertexColumns {
+  int x = -1, y = -1, z = -1, fixed = -1;
+};
+struct FaceColumns {
+  int indices = -1, cell = -1, neighbor = -1, wall = -1;
+};
+struct VolumeColumns {  // openalea cells
+  int faces = -1, label = -1;
+};
+
+class TissueReader {
  public:
-  PlyReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) {}
+  TissueReader(std::string data, std::string name) : table_(std::move(data), std::move(name)) {}
 
   CellComplex read(PlyInfo& info) {
-    parseHeader(info);
-    assignRoles(info);
+    info.format = table_.formatName();
+    findColumns(info);
     readData(info);
     return assemble(info);
   }
 
  private:
-  [[noreturn]] void fail(const std::string& msg) const { throw PlyError(name_ + ": " + msg); }
-  [[noreturn]] void failAt(const std::string& msg) const { fail(where() + ": " + msg); }
-
-  // Location of the current element instance: the line (ASCII) or element and index (binary).
-  std::string where() const {
-    const std::string what = elem_ ? elem_->name + " " + str(index_) : "data";
-    if (format_ == Format::Ascii) return "line " + str(line_) + " (" + what + ")";
-    return elem_ ? "element '" + elem_->name + "' index " + str(index_) : "data";
-  }
+  [[noreturn]] void fail(const std::string& msg) const { table_.fail(msg); }
 
   std::string faceName(int f) const {
-    if (format_ == Format::Ascii) return "face " + str(f) + " (line " + str(faces_.line[f]) + ")";
+    if (table_.format() == ply::Format::Ascii)
+      return "face " + str(f) + " (line " + str(faces_.line[f]) + ")";
     return "face " + str(f);
   }
 
-  // Next line of the file without its end-of-line characters; false at the end of the data.
-  bool nextLine(std::string_view& out) {
-    if (pos_ >= data_.size()) return false;
-    std::size_t end = data_.find('\n', pos_);
-    if (end == std::string::npos) end = data_.size();
-    out = std::string_view(data_).substr(pos_, end - pos_);
-    if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
-    pos_ = std::min(end + 1, data_.size());
-    ++line_;
-    return true;
-  }
-
-  void parseHeader(PlyInfo& info) {
-    if (data_.empty()) fail("empty file (not a PLY file)");
-    std::string_view line;
-    nextLine(line);
-    if (trim(line) != "ply")
-      fail("not a PLY file: the first line is " + quoted(line) + ", expected 'ply'");
-    bool haveFormat = false, ended = false;
-    std::vector<std::string_view> w;
-    while (!ended && nextLine(line)) {
-      splitWords(line, w);
-      const std::string at = "line " + str(line_) + ": ";
-      if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
-      if (w[0] == "format") {
-        if (w.size() < 2) fail(at + "'format' without a format name");
-        if (w[1] == "ascii")
-          format_ = Format::Ascii;
-        else if (w[1] == "binary_little_endian")
-          format_ = Format::BinaryLittle;
-        else if (w[1] == "binary_big_endian")
-          format_ = Format::BinaryBig;
-        else
-          fail(at + "unsupported format " + quoted(w[1]) +
-               " (expected ascii, binary_little_endian or binary_big_endian)");
-        info.format = std::string(w[1]);
-        haveFormat = true;
-      } else if (w[0] == "element") {
-        long long count = 0;
-        if (w.size() != 3) fail(at + "expected 'element NAME COUNT', found " + quoted(line));
-        if (!parseInteger(w[2], count) || count < 0)
-          fail(at + "element count " + quoted(w[2]) + " is not a non-negative integer");
-        for (const Element& e : elements_)
-          if (e.name == w[1]) fail(at + "element '" + e.name + "' is declared twice");
-        elements_.push_back(
-            Element{std::string(w[1]), static_cast<std::uint64_t>(count), {}, {}, line_});
-      } else if (w[0] == "property") {
-        if (elements_.empty()) fail(at + "'property' before any 'element'");
-        Property p;
-        p.line = line_;
-        std::size_t nameWord = 2;
-        if (w.size() >= 2 && w[1] == "list") {
-          if (w.size() < 5) fail(at + "expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
-          p.isList = true;
-          p.countType = scalarFromName(w[2]);
-          p.type = scalarFromName(w[3]);
-          p.typeText = "list " + std::string(w[2]) + " " + std::string(w[3]);
-          if (p.countType == Scalar::Float32 || p.countType == Scalar::Float64)
-            fail(at + "a list count type must be an integer type, not " + quoted(w[2]));
-          nameWord = 4;
-        } else {
-          if (w.size() < 3) fail(at + "expected 'property TYPE NAME'");
-          p.type = scalarFromName(w[1]);
-          p.typeText = std::string(w[1]);
-        }
-        // The name is the rest of the line: MorphoGraphX writes names with spaces.
-        p.name = std::string(trim(line.substr(w[nameWord].data() - line.data())));
-        elements_.back().properties.push_back(std::move(p));
-      } else if (w[0] == "end_header") {
-        ended = true;
-      } else {
-        fail(at + "unexpected header line " + quoted(line));
-      }
-    }
-    if (!ended) fail("the header has no 'end_header' line (truncated, or not a PLY file)");
-    if (!haveFormat) fail("the header has no 'format' line");
-    swap_ = format_ != Format::Ascii &&
-            (format_ == Format::BinaryLittle) != (std::endian::native == std::endian::little);
-  }
-
-  void assignRoles(PlyInfo& info) {
-    for (int i = 0; i < static_cast<int>(elements_.size()); ++i) {
-      if (elements_[i].name == "vertex") vertexElement_ = i;
-      if (elements_[i].name == "face") faceElement_ = i;
-    }
-    if (vertexElement_ < 0) fail("no 'vertex' element in the header");
-    if (faceElement_ < 0 || elements_[faceElement_].count == 0) {
-      std::string names;
-      for (const Element& e : elements_) names += (names.empty() ? "" : ", ") + e.name;
-      fail("no faces: a tissue needs an element 'face' with at least one face (this file has " +
-           (names.empty() ? std::string("no elements") : "elements " + names) +
-           "; a cell graph or point cloud is not a tissue)");
-    }
-    Element& ve = elements_[vertexElement_];
-    Element& fe = elements_[faceElement_];
-    if (ve.count > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
-      fail("element 'vertex' declares " + str(ve.count) + " vertices, more than supported");
-    if (fe.count > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
-      fail("element 'face' declares " + str(fe.count) + " faces, more than supported");
-    vertexCount_ = static_cast<int>(ve.count);
-
-    auto find = [](const Element& e, const char* name) {
-      for (int k = 0; k < static_cast<int>(e.properties.size()); ++k)
-        if (e.properties[k].name == name) return k;
-      return -1;
-    };
-    auto use = [&](Element& e, int k, Role r, bool list) {
-      if (k < 0) return;
-      const Property& p = e.properties[k];
-      if (p.isList != list)
-        fail("line " + str(p.line) + ": property '" + p.name + "' of element '" + e.name +
-             "' must be " + (list ? "a list" : "a single value, not a list"));
-      e.roles[k] = r;
-    };
-    ve.roles.assign(ve.properties.size(), Role::Ignore);
-    fe.roles.assign(fe.properties.size(), Role::Ignore);
-    for (const char* c : {"x", "y", "z"})
-      if (find(ve, c) < 0) fail("element 'vertex' has no property '" + std::string(c) + "'");
-    use(ve, find(ve, "x"), Role::X, false);
-    use(ve, find(ve, "y"), Role::Y, false);
-    use(ve, find(ve, "z"), Role::Z, false);
-    use(ve, find(ve, "fixed"), Role::Fixed, false);
-
-    int indices = find(fe, "vertex_indices");
-    if (indices < 0) indices = find(fe, "vertex_index");
-    if (indices < 0)
-      fail("element 'face' has no list property 'vertex_indices' (or 'vertex_index')");
-    use(fe, indices, Role::Indices, true);
-    int cell = find(fe, "cell");
-    info.cellProperty = "cell";
-    if (cell < 0) {
-      // MorphoGraphX: the face label is the cell. Only a single value can be one.
-      cell = find(fe, "label");
-      info.cellProperty = "label";
-      if (cell >= 0 && fe.properties[cell].isList) cell = -1;
-    }
-    if (cell < 0) info.cellProperty.clear();
-    labelled_ = cell >= 0;
-    info.hadCellLabels = labelled_;
-    use(fe, cell, Role::Cell, false);
-    if (labelled_)
-      use(fe, find(fe, "neighbor"), Role::Neighbor, false);
-    else if (find(fe, "neighbor") >= 0)
-      info.notes.push_back("faces have 'neighbor' but no cell labels: 'neighbor' ignored");
-    use(fe, find(fe, "wall"), Role::Wall, false);
-    if (!labelled_) findVolumes(info, find);
-    for (Role r : fe.roles) {
-      hasNeighbor_ = hasNeighbor_ || r == Role::Neighbor;
-      hasWall_ = hasWall_ || r == Role::Wall;
-    }
-
-    for (Element* e : {&ve, &fe}) {
-      // A value after one of unknown type cannot be located (binary: cannot even be skipped).
-      int firstUnknown = -1;
-      for (int k = 0; k < static_cast<int>(e->properties.size()); ++k) {
-        const Property& p = e->properties[k];
-        if (!p.knownType() && firstUnknown < 0) {
-          firstUnknown = k;
-          if (format_ != Format::Ascii)
-            fail("property '" + p.name + "' of element '" + e->name + "' has type " +
-                 quoted(p.typeText) + ", which is not a PLY type; a binary file cannot be read");
-        }
-        if (firstUnknown >= 0 && e->roles[k] != Role::Ignore)
-          fail("property '" + p.name + "' of element '" + e->name + "' cannot be read: " +
-               (k == firstUnknown
-                    ? "its type " + quoted(p.typeText) + " is not a PLY type"
-                    : "it follows property '" + e->properties[firstUnknown].name +
-                          "' of unknown type " + quoted(e->properties[firstUnknown].typeText)));
-      }
-      for (std::size_t k = 0; k < e->properties.size(); ++k)
-        if (e->roles[k] == Role::Ignore)
-          info.ignoredProperties.push_back(e->name + "." + e->properties[k].name);
-    }
-    for (int i = 0; i < static_cast<int>(elements_.size()); ++i)
-      if (i != vertexElement_ && i != faceElement_ && i != volumeElement_)
-        info.ignoredElements.push_back(elements_[i].name);
-  }
-
-  // openalea (PropertyTopomesh PLY): an element `volume` per cell, a list `face_index` of its
-  // faces and an integer `label`. Used for the cells when the faces carry no labels.
-  template <class Find>
-  void findVolumes(PlyInfo& info, Find&& find) {
-    for (int i = 0; i < static_cast<int>(elements_.size()); ++i) {
-      const Element& e = elements_[i];
-      if (e.name != "volume") continue;
-      int faces = find(e, "face_index");
-      if (faces < 0) faces = find(e, "face_indices");
-      const int label = find(e, "label");
-      if (faces < 0 || label < 0 || !e.properties[faces].isList || e.properties[label].isList) {
-        info.notes.push_back("element 'volume' has no list 'face_index' and integer 'label': "
-                             "not used for cell labels");
-        return;
-      }
-      // Every value up to the last one used must be readable (in binary, every value).
-      const int last = format_ == Format::Ascii ? std::max(faces, label)
-                                                : static_cast<int>(e.properties.size()) - 1;
-      for (int k = 0; k <= last; ++k)
-        if (!e.properties[k].knownType()) {
-          info.notes.push_back("element 'volume': property '" + e.properties[k].name +
-                               "' has type " + quoted(e.properties[k].typeText) +
-                               ", not a PLY type, so the cells' faces cannot be read");
-          return;
-        }
-      volumeElement_ = i;
-      volumeFaces_ = faces;
-      volumeLabel_ = label;
-      labelled_ = true;
-      info.hadCellLabels = true;
-      info.cellProperty = "volume.label";
-      return;
-    }
-  }
-
-  // --- data -----------------------------------------------------------------------------------
-
-  void readData(PlyInfo& info) {
-    bool haveVertices = false, haveFaces = false;
-    for (Element& e : elements_) {
-      elem_ = &e;
-      index_ = 0;
-      const bool used = &e == &elements_[vertexElement_] || &e == &elements_[faceElement_] ||
-                        (volumeElement_ >= 0 && &e == &elements_[volumeElement_]);
-      if (!used && format_ != Format::Ascii && !e.allKnown()) {
-        // Its instance size is unknown: nothing after it can be reached.
-        if (haveVertices && haveFaces) {
-          info.notes.push_back("stopped reading at element '" + e.name +
-                               "' (a property of unknown type); it and later elements ignored");
-          break;
-        }
-        fail("element '" + e.name + "' has a property of unknown type, so a binary file cannot " +
-             "be read past it to the vertices or faces");
-      }
-      if (&e == &elements_[vertexElement_]) {
-        readVertices(e);
-        haveVertices = true;
-      } else if (&e == &elements_[faceElement_]) {
-        readFaces(e);
-        haveFaces = true;
-      } else if (volumeElement_ >= 0 && &e == &elements_[volumeElement_]) {
-        readVolumes(e);
-      } else {
-        skipElement(e);
-      }
-    }
-    elem_ = nullptr;
-    if (volumeElement_ >= 0) applyVolumes(info);
-    if (pos_ < data_.size()) {
-      const bool onlySpace = format_ == Format::Ascii &&
-                             data_.find_first_not_of(" \t\r\n\v\f", pos_) == std::string::npos;
-      if (!onlySpace)
-        info.notes.push_back(str(static_cast<std::uint64_t>(data_.size() - pos_)) +
-                             " bytes after the last element ignored");
-    }
-  }
-
-  [[noreturn]] void failTruncated() const {
-    fail("premature end of file in element '" + elem_->name + "' at index " + str(index_) + " of " +
-         str(elem_->count) + (format_ == Format::Ascii ? " (after line " + str(line_) + ")" : ""));
-  }
-
-  // ASCII: the next non-blank line holds the current instance (one instance per line).
-  void beginInstance() {
-    if (format_ != Format::Ascii) return;
-    std::string_view line;
-    do {
-      if (!nextLine(line)) failTruncated();
-      splitWords(line, tokens_);
-    } while (tokens_.empty());
-    token_ = 0;
-  }
-
-  void endInstance(bool wholeLine) {
-    if (format_ == Format::Ascii && wholeLine && token_ < tokens_.size())
-      failAt(str(static_cast<std::uint64_t>(tokens_.size() - token_)) +
-             " value(s) more than element '" + elem_->name + "' declares");
-  }
-
-  const char* take(std::size_t n) {
-    if (data_.size() - pos_ < n) failTruncated();
-    const char* p = data_.data() + pos_;
-    pos_ += n;
-    return p;
-  }
-
-  template <class T>
-  T load(const char* p) const {
-    char bytes[sizeof(T)];
-    std::memcpy(bytes, p, sizeof(T));
-    if (swap_) std::reverse(bytes, bytes + sizeof(T));
-    T v;
-    std::memcpy(&v, bytes, sizeof(T));
-    return v;
-  }
-
-  double decode(Scalar t, const char* p) const {
-    switch (t) {
-      case Scalar::Int8:
-        return load<std::int8_t>(p);
-      case Scalar::UInt8:
-        return load<std::uint8_t>(p);
-      case Scalar::Int16:
-        return load<std::int16_t>(p);
-      case Scalar::UInt16:
-        return load<std::uint16_t>(p);
-      case Scalar::Int32:
-        return load<std::int32_t>(p);
-      case Scalar::UInt32:
-        return load<std::uint32_t>(p);
-      case Scalar::Float32:
-        return load<float>(p);
-      case Scalar::Float64:
-        return load<double>(p);
-      case Scalar::Unknown:
-        break;
-    }
-    return 0;
-  }
-
-  // One value of type t; parsed only when `needed` (ignored ASCII values are not checked).
-  double value(const Property& p, Scalar t, bool needed) {
-    if (format_ != Format::Ascii) {
-      const char* b = take(scalarSize(t));
-      return needed ? decode(t, b) : 0.0;
-    }
-    if (token_ >= tokens_.size())
-      failAt("too few values: property '" + p.name + "' of element '" + elem_->name +
-             "' is missing");
-    const std::string_view tok = tokens_[token_++];
-    if (!needed) return 0.0;
-    if (isInteger(t)) {
-      long long v = 0;
-      if (!parseInteger(tok, v))
-        failAt(quoted(tok) + " is not an integer (property '" + p.name + "' of element '" +
-               elem_->name + "')");
-      const auto [lo, hi] = integerRange(t);
-      if (v < lo || v > hi)
-        failAt("value " + str(v) + " does not fit the type of property '" + p.name + "'");
-      return static_cast<double>(v);
-    }
-    double v = 0;
-    if (!parseReal(tok, v))
-      failAt(quoted(tok) + " is not a number (property '" + p.name + "' of element '" +
-             elem_->name + "')");
-    return v;
-  }
-
-  std::uint64_t listCount(const Property& p) {
-    const double n = value(p, p.countType, true);
-    if (n < 0) failAt("negative list length " + str(n) + " for property '" + p.name + "'");
-    return static_cast<std::uint64_t>(n);
-  }
-
-  void skipList(const Property& p, std::uint64_t n) {
-    if (format_ != Format::Ascii) {
-      const std::uint64_t size = scalarSize(p.type);
-      if (n > (data_.size() - pos_) / size) failTruncated();
-      pos_ += n * size;
-      return;
-    }
-    if (n > tokens_.size() - token_)
-      failAt("list '" + p.name + "' declares " + str(n) + " items but the line has only " +
-             str(static_cast<std::uint64_t>(tokens_.size() - token_)) + " more value(s)");
-    token_ += n;
-  }
-
-  int integral(double v, const char* what) const {
-    if (!(v == std::floor(v)) || v < std::numeric_limits<int>::min() ||
-        v > std::numeric_limits<int>::max())
-      failAt(std::string(what) + " " + str(v) + " is not an integer in the range of int");
-    return static_cast<int>(v);
-  }
-
-  // Reads one instance of a used element into `val` (by role) and `list` (the face's indices).
-  void readInstance(const Element& e, double* val, std::vector<int>* list) {
-    beginInstance();
-    bool wholeLine = true;
-    for (std::size_t k = 0; k < e.properties.size(); ++k) {
-      const Property& p = e.properties[k];
-      const Role r = e.roles[k];
-      if (!p.knownType()) {  // ASCII only, and nothing used follows (checked in the header)
-        wholeLine = false;
-        break;
-      }
-      if (!p.isList) {
-        val[static_cast<int>(r)] = value(p, p.type, r != Role::Ignore);
-        continue;
-      }
-      const std::uint64_t n = listCount(p);
-      if (r != Role::Indices) {
-        skipList(p, n);
-        continue;
-      }
-      if (n < 3) failAt("a face with " + str(n) + " vertices (at least 3 are needed)");
-      if (n > static_cast<std::uint64_t>(vertexCount_))
-        failAt("a face with " + str(n) + " vertices, but the file has only " + str(vertexCount_) +
-               " vertices");
-      list->clear();
-      for (std::uint64_t i = 0; i < n; ++i) {
-        const double v = value(p, p.type, true);
-        if (!(v >= 0 && v < vertexCount_ && v == std::floor(v)))
-          failAt("vertex index " + str(v) + " out of range (the file has " + str(vertexCount_) +
-                 " vertices, 0.." + str(vertexCount_ - 1) + ")");
-        list->push_back(static_cast<int>(v));
-      }
-    }
-    endInstance(wholeLine);
-  }
-
-  void readVertices(const Element& e) {
-    // Reserve only what the bytes left could hold (a vertex takes at least 3), not the count.
-    const std::size_t n = std::min<std::uint64_t>(e.count, (data_.size() - pos_) / 3);
-    xyz_.reserve(3 * n);
-    fixed_.reserve(n);
-    double val[static_cast<int>(Role::Count)] = {};
-    for (index_ = 0; index_ < e.count; ++index_) {
-      readInstance(e, val, nullptr);
-      for (Role r : {Role::X, Role::Y, Role::Z}) {
-        const double c = val[static_cast<int>(r)];
-        if (!std::isfinite(c))
-          failAt(std::string("coordinate ") + "xyz"[static_cast<int>(r) - 1] + " is " + str(c) +
-                 " (not finite)");
-        if (std::abs(c) > kMaxCoordinate)  // 1 m: beyond any tissue, and volumes would overflow
-          failAt(std::string("coordinate ") + "xyz"[static_cast<int>(r) - 1] + " is " + str(c) +
-                 " µm (at most " + str(kMaxCoordinate) + " µm in magnitude)");
-        xyz_.push_back(c);
-      }
-      fixed_.push_back(val[static_cast<int>(Role::Fixed)] != 0 ? 1 : 0);
-    }
-  }
-
-  void readFaces(const Element& e) {
-    double val[static_cast<int>(Role::Count)] = {};
-    std::vector<int> list;
-    std::vector<int> sorted;
-    for (index_ = 0; index_ < e.count; ++index_) {
-      val[static_cast<int>(Role::Cell)] = val[static_cast<int>(Role::Neighbor)] = -1;
-      val[static_cast<int>(Role::Wall)] = -1;
-      readInstance(e, val, &list);
-      sorted = list;
-      std::sort(sorted.begin(), sorted.end());
-      const auto rep = std::adjacent_find(sorted.begin(), sorted.end());
-      if (rep != sorted.end()) failAt("the face repeats vertex " + str(*rep));
-      faces_.verts.insert(faces_.verts.end(), list.begin(), list.end());
-      faces_.start.push_back(faces_.verts.size());
-      faces_.cell.push_back(integral(val[static_cast<int>(Role::Cell)], "cell label"));
-      faces_.neighbor.push_back(integral(val[static_cast<int>(Role::Neighbor)], "neighbor label"));
-      faces_.wall.push_back(integral(val[static_cast<int>(Role::Wall)], "wall id"));
-      faces_.line.push_back(format_ == Format::Ascii ? line_ : 0);
-    }
-  }
-
-  // One cell per instance: its label and the indices of its faces.
-  void readVolumes(const Element& e) {
-    const std::uint64_t faceCount = elements_[faceElement_].count;
-    for (index_ = 0; index_ < e.count; ++index_) {
-      beginInstance();
-      Volume v;
-      v.where = where();
-      bool wholeLine = true;
-      for (int k = 0; k < static_cast<int>(e.properties.size()); ++k) {
-        const Property& p = e.properties[k];
-        if (!p.knownType()) {  // ASCII only, after the used properties (checked in the header)
-          wholeLine = false;
-          break;
-        }
-        if (k == volumeLabel_) {
-          v.label = integral(value(p, p.type, true), "cell label");
-          if (v.label < 0) failAt("cell label " + str(v.label) + " is negative");
-        } else if (k == volumeFaces_) {
-          const std::uint64_t n = listCount(p);
-          if (n > faceCount)
-            failAt("a cell with " + str(n) + " faces, but the file has only " + str(faceCount));
-          for (std::uint64_t j = 0; j < n; ++j) {
-            const double f = value(p, p.type, true);
-            if (!(f >= 0 && f < static_cast<double>(faceCount) && f == std::floor(f)))
-              failAt("face index " + str(f) + " out of range (the file has " + str(faceCount) +
-                     " faces)");
-            v.faces.push_back(static_cast<int>(f));
-          }
-        } else if (p.isList) {
-          skipList(p, listCount(p));
-        } else {
-          value(p, p.type, false);
-        }
-      }
-      endInstance(wholeLine);
-      volumes_.push_back(std::move(v));
-    }
-  }
-
-  // A face listed by one volume has it as its cell, by two: cell and neighbour (the face's
-  // winding then says nothing of which is which; the first volume is taken as the cell).
-  void applyVolumes(PlyInfo& info) {
-    int empty = 0;
-    for (const Volume& v : volumes_) {
-      if (v.faces.empty()) ++empty;
-      for (int f : v.faces) {
-        int& c = faces_.cell[f];
-        int& n = faces_.neighbor[f];
-        if (c == v.label || n == v.label) continue;
-        if (c < 0) {
-          c = v.label;
-        } else if (n < 0) {
-          n = v.label;
-          hasNeighbor_ = true;
-        } else {
-          fail(v.where + ": face " + str(f) + " is already a wall of cells " + str(c) + " and " +
-               str(n) + "; it cannot also bound cell " + str(v.label));
-        }
-      }
-    }
-    if (empty)
-      info.notes.push_back(str(empty) + " volume(s) with no faces (cells without a wall) ignored");
-  }
-
-  void skipElement(const Element& e) {
-    if (e.properties.empty()) return;  // such instances occupy nothing
-    if (format_ == Format::Ascii) {
-      // One instance per line; not tokenised, so values of unknown types do no harm.
-      std::string_view line;
-      for (index_ = 0; index_ < e.count; ++index_) {
-        do {
-          if (!nextLine(line)) failTruncated();
-        } while (trim(line).empty());
-      }
-      return;
-    }
-    const bool fixedSize = std::none_of(e.properties.begin(), e.properties.end(),
-                                        [](const Property& p) { return p.isList; });
-    if (fixedSize) {  // one jump
-      std::uint64_t size = 0;
-      for (const Property& p : e.properties) size += scalarSize(p.type);
-      const std::uint64_t fit = (data_.size() - pos_) / size;
-      if (e.count > fit) {
-        index_ = fit;
-        failTruncated();
-      }
-      pos_ += e.count * size;
-      return;
-    }
-    for (index_ = 0; index_ < e.count; ++index_)
-      for (const Property& p : e.properties) {
-        if (p.isList)
-          skipList(p, listCount(p));
-        else
-          take(scalarSize(p.type));
-      }
-  }
-
-  // --- assembly -------------------------------------------------------------------------------
+  void findColumns(PlyInfo& info);
+  void findVolumes(PlyInfo& info);
+  std::vector<char> wanted(int e, std::initializer_list<int> columns) const;
+  void readData(PlyInfo& info);
+  void readVertices();
+  void readFaces();
+  void readVolumes();
+  void applyVolumes(PlyInfo& info);
+  int integral(double v, const char* what) const;
 
   CellComplex assemble(PlyInfo& info);
   void resolveLabels(std::vector<char>& keep, PlyInfo& info);
   bool closedSurface();
   void checkConsistentWinding();
 
-  std::string data_, name_;
-  std::size_t pos_ = 0;
-  int line_ = 0;
-  Format format_ = Format::Ascii;
-  bool swap_ = false;
-  std::vector<Element> elements_;
-  int vertexElement_ = -1, faceElement_ = -1, vertexCount_ = 0;
-  int volumeElement_ = -1, volumeFaces_ = -1, volumeLabel_ = -1;  // openalea cells
+  ply::TableReader table_;
+  int vertexElement_ = -1, faceElement_ = -1, volumeElement_ = -1, vertexCount_ = 0;
+  VertexColumns vc_;
+  FaceColumns fc_;
+  VolumeColumns oc_;
   struct Volume {
     int label = -1;
     std::vector<int> faces;
@@ -798,14 +99,257 @@ class PlyReader {
   };
   std::vector<Volume> volumes_;
   bool labelled_ = false, hasNeighbor_ = false, hasWall_ = false;
-  const Element* elem_ = nullptr;  // element being read, for messages
-  std::uint64_t index_ = 0;        // its instance being read
-  std::vector<std::string_view> tokens_;
-  std::size_t token_ = 0;
   std::vector<double> xyz_;
   std::vector<std::uint8_t> fixed_;
   RawFaces faces_;
 };
+
+void TissueReader::findColumns(PlyInfo& info) {
+  const auto& elements = table_.elements();
+  vertexElement_ = table_.findElement("vertex");
+  faceElement_ = table_.findElement("face");
+  if (vertexElement_ < 0) fail("no 'vertex' element in the header");
+  if (faceElement_ < 0 || elements[faceElement_].count == 0) {
+    std::string names;
+    for (const ply::Element& e : elements) names += (names.empty() ? "" : ", ") + e.name;
+    fail("no faces: a tissue needs an element 'face' with at least one face (this file has " +
+         (names.empty() ? std::string("no elements") : "elements " + names) +
+         "; a cell graph or point cloud is not a tissue)");
+  }
+  const ply::Element& ve = elements[vertexElement_];
+  const ply::Element& fe = elements[faceElement_];
+  if (ve.count > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+    fail("element 'vertex' declares " + str(ve.count) + " vertices, more than supported");
+  if (fe.count > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+    fail("element 'face' declares " + str(fe.count) + " faces, more than supported");
+  vertexCount_ = static_cast<int>(ve.count);
+
+  // A property used for a part must be a list or a single value as the part needs.
+  auto use = [&](const ply::Element& e, int k, bool list) {
+    if (k < 0) return k;
+    const ply::Property& p = e.properties[k];
+    if (p.isList != list)
+      fail("line " + str(p.line) + ": property '" + p.name + "' of element '" + e.name +
+           "' must be " + (list ? "a list" : "a single value, not a list"));
+    return k;
+  };
+  for (const char* c : {"x", "y", "z"})
+    if (ve.find(c) < 0) fail("element 'vertex' has no property '" + std::string(c) + "'");
+  vc_.x = use(ve, ve.find("x"), false);
+  vc_.y = use(ve, ve.find("y"), false);
+  vc_.z = use(ve, ve.find("z"), false);
+  vc_.fixed = use(ve, ve.find("fixed"), false);
+
+  int indices = fe.find("vertex_indices");
+  if (indices < 0) indices = fe.find("vertex_index");
+  if (indices < 0)
+    fail("element 'face' has no list property 'vertex_indices' (or 'vertex_index')");
+  fc_.indices = use(fe, indices, true);
+  int cell = fe.find("cell");
+  info.cellProperty = "cell";
+  if (cell < 0) {
+    // MorphoGraphX: the face label is the cell. Only a single value can be one.
+    cell = fe.find("label");
+    info.cellProperty = "label";
+    if (cell >= 0 && fe.properties[cell].isList) cell = -1;
+  }
+  if (cell < 0) info.cellProperty.clear();
+  labelled_ = cell >= 0;
+  info.hadCellLabels = labelled_;
+  fc_.cell = use(fe, cell, false);
+  if (labelled_)
+    fc_.neighbor = use(fe, fe.find("neighbor"), false);
+  else if (fe.find("neighbor") >= 0)
+    info.notes.push_back("faces have 'neighbor' but no cell labels: 'neighbor' ignored");
+  fc_.wall = use(fe, fe.find("wall"), false);
+  if (!labelled_) findVolumes(info);
+  hasNeighbor_ = fc_.neighbor >= 0;
+  hasWall_ = fc_.wall >= 0;
+
+  const std::vector<char> vw = wanted(vertexElement_, {vc_.x, vc_.y, vc_.z, vc_.fixed});
+  const std::vector<char> fw = wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall});
+  table_.checkReadable(vertexElement_, vw);
+  table_.checkReadable(faceElement_, fw);
+  for (const auto& [e, w] : {std::pair{vertexElement_, vw}, std::pair{faceElement_, fw}})
+    for (std::size_t k = 0; k < w.size(); ++k)
+      if (!w[k]) info.ignoredProperties.push_back(elements[e].name + "." + elements[e].properties[k].name);
+  for (int i = 0; i < static_cast<int>(elements.size()); ++i)
+    if (i != vertexElement_ && i != faceElement_ && i != volumeElement_)
+      info.ignoredElements.push_back(elements[i].name);
+}
+
+std::vector<char> TissueReader::wanted(int e, std::initializer_list<int> columns) const {
+  std::vector<char> w(table_.elements()[e].properties.size(), 0);
+  for (int k : columns)
+    if (k >= 0) w[k] = 1;
+  return w;
+}
+
+// openalea (PropertyTopomesh PLY): an element `volume` per cell, a list `face_index` of its
+// faces and an integer `label`. Used for the cells when the faces carry no labels.
+void TissueReader::findVolumes(PlyInfo& info) {
+  const int i = table_.findElement("volume");
+  if (i < 0) return;
+  const ply::Element& e = table_.elements()[i];
+  int faces = e.find("face_index");
+  if (faces < 0) faces = e.find("face_indices");
+  const int label = e.find("label");
+  if (faces < 0 || label < 0 || !e.properties[faces].isList || e.properties[label].isList) {
+    info.notes.push_back("element 'volume' has no list 'face_index' and integer 'label': "
+                         "not used for cell labels");
+    return;
+  }
+  // Every value up to the last one used must be readable (in binary, every value).
+  const int last = table_.format() == ply::Format::Ascii
+                       ? std::max(faces, label)
+                       : static_cast<int>(e.properties.size()) - 1;
+  for (int k = 0; k <= last; ++k)
+    if (!e.properties[k].knownType()) {
+      info.notes.push_back("element 'volume': property '" + e.properties[k].name +
+                           "' has type " + quoted(e.properties[k].typeText) +
+                           ", not a PLY type, so the cells' faces cannot be read");
+      return;
+    }
+  volumeElement_ = i;
+  oc_ = {faces, label};
+  labelled_ = true;
+  info.hadCellLabels = true;
+  info.cellProperty = "volume.label";
+}
+
+void TissueReader::readData(PlyInfo& info) {
+  bool haveVertices = false, haveFaces = false;
+  const auto& elements = table_.elements();
+  for (int i = 0; i < static_cast<int>(elements.size()); ++i) {
+    const bool used = i == vertexElement_ || i == faceElement_ || i == volumeElement_;
+    if (!used && !table_.skippable(i)) {
+      // Its instance size is unknown: nothing after it can be reached.
+      if (haveVertices && haveFaces) {
+        info.notes.push_back("stopped reading at element '" + elements[i].name +
+                             "' (a property of unknown type); it and later elements ignored");
+        break;
+      }
+      fail("element '" + elements[i].name + "' has a property of unknown type, so a binary file " +
+           "cannot be read past it to the vertices or faces");
+    }
+    if (i == vertexElement_) {
+      readVertices();
+      haveVertices = true;
+    } else if (i == faceElement_) {
+      readFaces();
+      haveFaces = true;
+    } else if (i == volumeElement_) {
+      readVolumes();
+    } else {
+      table_.skip(i);
+    }
+  }
+  if (volumeElement_ >= 0) applyVolumes(info);
+  if (const std::uint64_t rest = table_.trailingBytes())
+    info.notes.push_back(str(rest) + " bytes after the last element ignored");
+}
+
+int TissueReader::integral(double v, const char* what) const {
+  if (!(v == std::floor(v)) || v < std::numeric_limits<int>::min() ||
+      v > std::numeric_limits<int>::max())
+    table_.failAt(std::string(what) + " " + str(v) + " is not an integer in the range of int");
+  return static_cast<int>(v);
+}
+
+void TissueReader::readVertices() {
+  const ply::Element& e = table_.elements()[vertexElement_];
+  // Counts are not trusted: reserve at most 65,536 vertices, grow beyond.
+  const std::size_t n = std::min<std::uint64_t>(e.count, 1u << 16);
+  xyz_.reserve(3 * n);
+  fixed_.reserve(n);
+  const int axes[3] = {vc_.x, vc_.y, vc_.z};
+  table_.read(vertexElement_, wanted(vertexElement_, {vc_.x, vc_.y, vc_.z, vc_.fixed}),
+              [&](std::uint64_t, const ply::Instance& in) {
+                for (int a = 0; a < 3; ++a) {
+                  const double c = in.values[axes[a]];
+                  if (!std::isfinite(c))
+                    table_.failAt(std::string("coordinate ") + "xyz"[a] + " is " + str(c) +
+                                  " (not finite)");
+                  if (std::abs(c) > kMaxCoordinate)  // 1 m: beyond any tissue; volumes overflow
+                    table_.failAt(std::string("coordinate ") + "xyz"[a] + " is " + str(c) +
+                                  " µm (at most " + str(kMaxCoordinate) + " µm in magnitude)");
+                  xyz_.push_back(c);
+                }
+                fixed_.push_back(vc_.fixed >= 0 && in.values[vc_.fixed] != 0 ? 1 : 0);
+              });
+}
+
+void TissueReader::readFaces() {
+  std::vector<int> sorted;
+  auto label = [](const ply::Instance& in, int k) { return k >= 0 ? in.values[k] : -1.0; };
+  table_.read(
+      faceElement_, wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall}),
+      [&](std::uint64_t, const ply::Instance& in) {
+        const std::vector<double>& list = in.lists[fc_.indices];
+        const std::size_t n = list.size();
+        if (n < 3) table_.failAt("a face with " + str(n) + " vertices (at least 3 are needed)");
+        for (double v : list)
+          if (!(v >= 0 && v < vertexCount_ && v == std::floor(v)))
+            table_.failAt("vertex index " + str(v) + " out of range (the file has " +
+                          str(vertexCount_) + " vertices, 0.." + str(vertexCount_ - 1) + ")");
+        sorted.assign(list.begin(), list.end());
+        std::sort(sorted.begin(), sorted.end());
+        const auto rep = std::adjacent_find(sorted.begin(), sorted.end());
+        if (rep != sorted.end()) table_.failAt("the face repeats vertex " + str(*rep));
+        faces_.verts.insert(faces_.verts.end(), list.begin(), list.end());
+        faces_.start.push_back(faces_.verts.size());
+        faces_.cell.push_back(integral(label(in, fc_.cell), "cell label"));
+        faces_.neighbor.push_back(integral(label(in, fc_.neighbor), "neighbor label"));
+        faces_.wall.push_back(integral(label(in, fc_.wall), "wall id"));
+        faces_.line.push_back(table_.line());
+      });
+}
+
+// One cell per instance: its label and the indices of its faces.
+void TissueReader::readVolumes() {
+  const std::uint64_t faceCount = table_.elements()[faceElement_].count;
+  table_.read(volumeElement_, wanted(volumeElement_, {oc_.faces, oc_.label}),
+              [&](std::uint64_t index, const ply::Instance& in) {
+                Volume v;
+                v.where = table_.format() == ply::Format::Ascii
+                              ? "line " + str(table_.line()) + " (volume " + str(index) + ")"
+                              : "element 'volume' index " + str(index);
+                v.label = integral(in.values[oc_.label], "cell label");
+                if (v.label < 0) table_.failAt("cell label " + str(v.label) + " is negative");
+                for (double f : in.lists[oc_.faces]) {
+                  if (!(f >= 0 && f < static_cast<double>(faceCount) && f == std::floor(f)))
+                    table_.failAt("face index " + str(f) + " out of range (the file has " +
+                                  str(faceCount) + " faces)");
+                  v.faces.push_back(static_cast<int>(f));
+                }
+                volumes_.push_back(std::move(v));
+              });
+}
+
+// A face listed by one volume has it as its cell, by two: cell and neighbour (the face's
+// winding then says nothing of which is which; the first volume is taken as the cell).
+void TissueReader::applyVolumes(PlyInfo& info) {
+  int empty = 0;
+  for (const Volume& v : volumes_) {
+    if (v.faces.empty()) ++empty;
+    for (int f : v.faces) {
+      int& c = faces_.cell[f];
+      int& n = faces_.neighbor[f];
+      if (c == v.label || n == v.label) continue;
+      if (c < 0) {
+        c = v.label;
+      } else if (n < 0) {
+        n = v.label;
+        hasNeighbor_ = true;
+      } else {
+        fail(v.where + ": face " + str(f) + " is already a wall of cells " + str(c) + " and " +
+             str(n) + "; it cannot also bound cell " + str(v.label));
+      }
+    }
+  }
+  if (empty)
+    info.notes.push_back(str(empty) + " volume(s) with no faces (cells without a wall) ignored");
+}
 
 enum class Winding { Same, Reversed, Other };
 
@@ -836,7 +380,7 @@ std::string cellsText(int cell, int neighbor) {
 }
 
 // Normalises labels, and drops the second copy of every wall written from both sides.
-void PlyReader::resolveLabels(std::vector<char>& keep, PlyInfo& info) {
+void TissueReader::resolveLabels(std::vector<char>& keep, PlyInfo& info) {
   const int F = faces_.count();
   int turned = 0, twins = 0, duplicates = 0;
   for (int f = 0; f < F; ++f) {
@@ -895,7 +439,7 @@ void PlyReader::resolveLabels(std::vector<char>& keep, PlyInfo& info) {
 }
 
 // True when the faces form a closed surface: every directed edge exactly once, with its reverse.
-bool PlyReader::closedSurface() {
+bool TissueReader::closedSurface() {
   std::vector<std::uint64_t> edges;
   edges.reserve(faces_.verts.size());
   auto key = [](int a, int b) {
@@ -916,7 +460,7 @@ bool PlyReader::closedSurface() {
 // An unlabelled surface that is closed but for the winding of some faces (every edge shared by
 // exactly two faces, some pairs running it the same way) is refused with the faces named: read
 // as a sheet it would silently lose its cell and its pressure.
-void PlyReader::checkConsistentWinding() {
+void TissueReader::checkConsistentWinding() {
   struct Use {
     int a, b, face;
   };
@@ -957,7 +501,7 @@ void PlyReader::checkConsistentWinding() {
        "); wind every face the same way round (e.g. outward)");
 }
 
-CellComplex PlyReader::assemble(PlyInfo& info) {
+CellComplex TissueReader::assemble(PlyInfo& info) {
   CellComplex cc;
   const int V = vertexCount_, F = faces_.count();
   cc.rest = Eigen::Map<const Points>(xyz_.data(), 3, V);
@@ -1050,7 +594,7 @@ CellComplex readPly(std::istream& in, const std::string& nameForErrors, PlyInfo*
   PlyInfo local;
   PlyInfo& out = info ? *info : local;
   out = PlyInfo{};
-  PlyReader reader(std::move(buffer).str(), nameForErrors);
+  TissueReader reader(std::move(buffer).str(), nameForErrors);
   return reader.read(out);
 }
 

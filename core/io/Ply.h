@@ -27,21 +27,18 @@
 //    wall (so a triangulated interface between two cells is one wall). Polygons are triangulated
 //    with tp::triangulatePolygon; triangles keep the file's face order.
 // Malformed files throw tp::PlyError naming the file and the line (ASCII) or the element and
-// index (binary). Counts in the header are never trusted for allocation.
+// index (binary). Counts in the header are never trusted for allocation. The generic part (header,
+// types, values, their errors) is io/PlyTable.h; this file gives the table its tissue meaning.
 
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "io/PlyTable.h"  // PlyError
 #include "mesh/CellComplex.h"
 
 namespace tp {
-
-class PlyError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// What a read found besides the tissue.
 struct PlyInfo {

@@ -481,14 +481,16 @@ TEST(PlyErrors, FaceWithTooFewOrRepeatedVertices) {
               AllOf(HasSubstr("line 13"), HasSubstr("repeats vertex 1")));
   // A list length far beyond the vertex count fails before anything is read or allocated.
   EXPECT_THAT(plyError(replaceLine(kTriangle, 13, "200 0 1 2")),
-              AllOf(HasSubstr("line 13"), HasSubstr("200 vertices")));
+              AllOf(HasSubstr("line 13"), HasSubstr("declares 200 items")));
 }
 
 TEST(PlyErrors, TruncatedAscii) {
   const std::string t = kTriangle.substr(0, kTriangle.find("3 0 1 2"));
   EXPECT_THAT(plyError(t), HasSubstr("premature end of file in element 'face' at index 0"));
   EXPECT_THAT(plyError(replaceLine(kTriangle, 13, "3 0 1")),
-              AllOf(HasSubstr("line 13"), HasSubstr("too few values")));
+              AllOf(HasSubstr("line 13"), HasSubstr("declares 3 items but the line has only 2")));
+  EXPECT_THAT(plyError(replaceLine(kTriangle, 12, "0 1")),
+              AllOf(HasSubstr("line 12"), HasSubstr("too few values: property 'z'")));
 }
 
 TEST(PlyErrors, TruncatedBinary) {
