@@ -7,6 +7,8 @@
 #include <QRectF>
 #include <QString>
 
+#include <limits>
+
 #include "ColorMap.h"
 
 namespace tp::gui {
@@ -14,8 +16,13 @@ namespace tp::gui {
 QColor toQColor(const Eigen::Vector3f& rgb);
 
 /// Paints the bar into the right-hand side of `viewport` (the whole view), `scale` times the
-/// on-screen size (for screenshots larger than the window). Returns the rectangle it used.
+/// on-screen size (for screenshots larger than the window). Returns the rectangle it used. The
+/// bar takes at most about a third of the view's height and a quarter of its width (a long
+/// title wraps). Values beyond the bar's range (`dataLo`, `dataHi`: the extremes of the data,
+/// NaN when unknown) are flagged by an arrow at that end with the extreme value.
 QRectF paintColorBar(QPainter& painter, const QRectF& viewport, const ColorMap& map,
-                     const QString& title, double scale = 1.0);
+                     const QString& title, double scale = 1.0,
+                     double dataLo = std::numeric_limits<double>::quiet_NaN(),
+                     double dataHi = std::numeric_limits<double>::quiet_NaN());
 
 }  // namespace tp::gui

@@ -173,8 +173,14 @@ void FileActions::exportPlotDialog() {
   const QString path = askSave(tr("Export the plot"), "curves.png",
                                tr("PNG image (*.png);;SVG drawing (*.svg);;PDF document (*.pdf)"));
   if (path.isEmpty()) return;
+  // A figure's size, not the dock's (704×237 on a 1280×800 window): 3:2 by default.
+  const bool vector = !path.endsWith(".png", Qt::CaseInsensitive);
+  ScreenshotDialog dialog(vector ? QSize(540, 360) : QSize(1200, 800), tr("Size of the plot"),
+                          vector ? tr(" pt") : tr(" px"), window_);
+  if (dialog.exec() != QDialog::Accepted) return;
   QString error;
-  report(plot_->exportImage(path, 0, 0, &error), tr("plot"), path, error);
+  report(plot_->exportImage(path, dialog.imageSize().width(), dialog.imageSize().height(), &error),
+         tr("plot"), path, error);
 }
 
 void FileActions::exportCurvesDialog() {

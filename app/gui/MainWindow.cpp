@@ -4,12 +4,14 @@
 
 #include "Throttle.h"
 
+#include <QAbstractSpinBox>
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QDockWidget>
 #include <QFileInfo>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -52,6 +54,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   controller_->setParams(params_->params());
   controller_->setSchedule(params_->schedule());
   resize(1280, 800);
+  // Space is "Run curve" everywhere but in a number box, where it used to go into the text and
+  // blank the box: there it does nothing.
+  for (QAbstractSpinBox* box : findChildren<QAbstractSpinBox*>()) box->installEventFilter(this);
   QSettings settings;
   restoreGeometry(settings.value("window/geometry").toByteArray());
   restoreState(settings.value("window/state").toByteArray());
@@ -329,6 +334,18 @@ void MainWindow::showControls() {
          "Arrows: turn · +/-: zoom · F: fit · 1/3/7: front/right/top · R: reset · "
          "Z: zoom to the probe\n"
          "Space: run the curve · Esc: cancel"));
+}
+
+bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
+  if ((e->type() == QEvent::KeyPress || e->type() == QEvent::ShortcutOverride) &&
+      qobject_cast<QAbstractSpinBox*>(watched)) {
+    const auto* key = static_cast<QKeyEvent*>(e);
+    if (key->key() == Qt::Key_Space && key->modifiers() == Qt::NoModifier) {
+      e->accept();  // (an accepted ShortcutOverride keeps the Run shortcut from firing)
+      return true;
+    }
+  }
+  return QMainWindow::eventFilter(watched, e);
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {

@@ -33,6 +33,7 @@ class MainWindow : public QMainWindow {
   FileActions* fileActions() const { return files_; }
 
  protected:
+  bool eventFilter(QObject* watched, QEvent* e) override;
   void closeEvent(QCloseEvent* e) override;
   void dragEnterEvent(QDragEnterEvent* e) override;
   void dropEvent(QDropEvent* e) override;

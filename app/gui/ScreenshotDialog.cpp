@@ -17,22 +17,26 @@ constexpr int kMaxSide = 8192;  // within every OpenGL implementation's renderbu
 }
 
 ScreenshotDialog::ScreenshotDialog(const QSize& viewSize, QWidget* parent)
-    : QDialog(parent), view_(viewSize.expandedTo(QSize(1, 1))) {
-  setWindowTitle(tr("Screenshot of the 3D view"));
+    : ScreenshotDialog(viewSize, tr("Screenshot of the 3D view"), tr(" px"), parent) {}
+
+ScreenshotDialog::ScreenshotDialog(const QSize& base, const QString& title, const QString& unit,
+                                   QWidget* parent)
+    : QDialog(parent), view_(base.expandedTo(QSize(1, 1))) {
+  setWindowTitle(title);
   width_ = new QSpinBox;
   height_ = new QSpinBox;
   for (auto* s : {width_, height_}) {
     s->setRange(16, kMaxSide);
-    s->setSuffix(tr(" px"));
+    s->setSuffix(unit);
   }
   width_->setValue(view_.width());
   height_->setValue(view_.height());
-  keepAspect_ = new QCheckBox(tr("Keep the view's aspect ratio"));
+  keepAspect_ = new QCheckBox(tr("Keep the aspect ratio"));
   keepAspect_->setChecked(true);
   auto* presets = new QHBoxLayout;
   for (double f : {1.0, 2.0, 4.0}) {
     auto* b = new QPushButton(tr("%1×").arg(f));
-    b->setToolTip(tr("%1 times the view's size").arg(f));
+    b->setToolTip(tr("%1 times the default size").arg(f));
     presets->addWidget(b);
     connect(b, &QPushButton::clicked, this, [this, f] { scaleTo(f); });
   }

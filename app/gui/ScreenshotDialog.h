@@ -1,6 +1,7 @@
 #pragma once
-// Asks for the size (pixels) of a screenshot of the 3D view: the view's own size by default,
-// presets 2× and 4×, the aspect ratio kept unless unticked.
+// Asks for the size of an image: a screenshot of the 3D view (pixels; the view's own size by
+// default) or an exported plot (pixels, or points for SVG and PDF); presets 1×, 2× and 4× of the
+// default, the aspect ratio kept unless unticked.
 
 #include <QDialog>
 #include <QSize>
@@ -15,6 +16,9 @@ class ScreenshotDialog : public QDialog {
 
  public:
   ScreenshotDialog(const QSize& viewSize, QWidget* parent = nullptr);
+  /// The same for another image: `title` of the dialog, `unit` after the numbers (" px", " pt").
+  ScreenshotDialog(const QSize& base, const QString& title, const QString& unit,
+                   QWidget* parent = nullptr);
   QSize imageSize() const;
 
  private:

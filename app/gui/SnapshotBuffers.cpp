@@ -113,16 +113,41 @@ std::vector<float> unitSphereMesh(int subdivisions) {
   return out;
 }
 
-std::pair<double, double> autoRange(const Snapshot& s, Field field, bool diverging) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (float v : s.fields[static_cast<int>(field)])
-    if (std::isfinite(v)) lo = std::min(lo, double(v)), hi = std::max(hi, double(v));
-  if (!(lo <= hi)) return {0.0, 1.0};
-  if (diverging && lo < 0 && hi > 0) {
-    const double m = std::max(-lo, hi);
-    return {-m, m};
+AutoRange autoRange(const Snapshot& s, Field field, bool diverging) {
+  std::vector<float> v;
+  v.reserve(s.fields[static_cast<int>(field)].size());
+  for (float x : s.fields[static_cast<int>(field)])
+    if (std::isfinite(x)) v.push_back(x);
+  AutoRange r;
+  if (v.empty()) return r;
+  const auto [mn, mx] = std::minmax_element(v.begin(), v.end());
+  r.dataLo = *mn;
+  r.dataHi = *mx;
+  double lo = r.dataLo, hi = r.dataHi;
+  // Absolute fields (stress, energy density): the 0.1 % of triangles at either end do not set
+  // the range, so that a few slivers (75 MPa on the real flower against 15 MPa around them) do
+  // not paint the whole tissue one colour. Changes from the turgid state and displacements keep
+  // their extremes: there the few triangles under the probe are the signal.
+  const bool robust = !quantityInfo(field).change && field != Field::Displacement;
+  const std::size_t k = robust ? v.size() / 1000 : 0;
+  if (k > 0) {
+    std::nth_element(v.begin(), v.begin() + k, v.end());
+    lo = v[k];
+    std::nth_element(v.begin(), v.end() - 1 - k, v.end());
+    hi = v[v.size() - 1 - k];
   }
-  return {lo, hi};
+  // Numerical noise (stresses of 1e-11 MPa without pressure) is not coloured as a signal.
+  if (std::max(std::abs(lo), std::abs(hi)) < kNoiseFloor) {
+    lo = lo < 0 || diverging ? -kNoiseFloor : 0.0;
+    hi = kNoiseFloor;
+  } else if (diverging && lo < 0 && hi > 0) {
+    const double m = std::max(-lo, hi);
+    lo = -m;
+    hi = m;
+  }
+  r.lo = lo;
+  r.hi = hi;
+  return r;
 }
 
 }  // namespace tp::gui

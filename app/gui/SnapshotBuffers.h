@@ -53,8 +53,21 @@ class SnapshotBuffers {
 /// vertex (position, equal to the outward normal).
 std::vector<float> unitSphereMesh(int subdivisions);
 
-/// The automatic colour range of a field: [min, max] of its finite values; for a diverging map
+/// Values below this magnitude (in the field's unit: MPa or µm) are numerical noise.
+inline constexpr double kNoiseFloor = 1e-6;
+
+/// The automatic colour range of a field and the extremes of its finite values.
+struct AutoRange {
+  double lo = 0, hi = 1;          // the colour bar's ends
+  double dataLo = 0, dataHi = 1;  // the smallest and largest values (may lie outside)
+  bool clippedLow() const { return dataLo < lo - 1e-9 * (hi - lo); }
+  bool clippedHigh() const { return dataHi > hi + 1e-9 * (hi - lo); }
+};
+
+/// The automatic colour range of a field: [min, max] of its finite values, except that stresses
+/// and energy densities leave out the 0.1 % of triangles at either end (slivers); all values
+/// below kNoiseFloor in magnitude give [0, kNoiseFloor] (or ±kNoiseFloor); for a diverging map
 /// and values of both signs, symmetric about zero so that zero sits at the neutral colour.
-std::pair<double, double> autoRange(const Snapshot& snapshot, Field field, bool diverging);
+AutoRange autoRange(const Snapshot& snapshot, Field field, bool diverging);
 
 }  // namespace tp::gui

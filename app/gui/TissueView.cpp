@@ -1,5 +1,6 @@
 #include "TissueView.h"
 
+#include <QFontMetricsF>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QOpenGLContext>
@@ -154,11 +155,14 @@ void TissueView::clearTarget() {
 
 void TissueView::updateRange() {
   const double oldLo = map_.lo(), oldHi = map_.hi();
-  if (autoRange_ && !snapshot_.empty()) {
-    const auto [lo, hi] =
+  if (!snapshot_.empty()) {
+    const AutoRange r =
         tp::gui::autoRange(snapshot_, field_, map_.diverging() || quantityInfo(field_).change);
-    map_.setRange(lo, hi);
-  } else if (!autoRange_) {
+    dataLo_ = r.dataLo;
+    dataHi_ = r.dataHi;
+    if (autoRange_) map_.setRange(r.lo, r.hi);
+  }
+  if (!autoRange_) {
     map_.setRange(lo_, hi_);
   }
   if (map_.lo() != oldLo || map_.hi() != oldHi) {
@@ -495,13 +499,12 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
   }
   const QString title = QStringLiteral("%1 (%2)").arg(QString::fromUtf8(fieldName(field_)),
                                                       QString::fromUtf8(fieldUnit(field_)));
-  paintColorBar(p, area, map_, title, scale);
+  paintColorBar(p, area, map_, title, scale, dataLo_, dataHi_);
   if (snapshot_.probeVisible) {
     QFont font = p.font();
     font.setPointSizeF(10.0 * scale);
     p.setFont(font);
-    p.setPen(QColor(20, 20, 20));
-    p.drawText(area.adjusted(10 * scale, 8 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop,
+    const QString text =
                tr("depth %1 µm   force %2 µN%3%4")
                    .arg(snapshot_.depth, 0, 'f', 3)
                    .arg(QString::fromStdString(forceText(snapshot_.force)))
@@ -510,7 +513,20 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
                             : QString())
                    .arg(deformationScale_ != 1.0
                             ? tr("\ndisplacement ×%1").arg(deformationScale_, 0, 'g', 3)
-                            : QString()));
+                            : QString());
+    // On a light panel, as the colour bar: readable over the darkest colours of any map.
+    const QFontMetricsF fm(font);
+    const QRectF textRect = fm.boundingRect(QRectF(0, 0, 1e6, 1e6), Qt::AlignLeft, text)
+                                .translated(10 * scale + 6 * scale, 8 * scale + 4 * scale);
+    p.save();
+    p.setRenderHint(QPainter::Antialiasing);
+    p.setPen(QPen(QColor(0, 0, 0, 60), 1.0 * scale));
+    p.setBrush(QColor(255, 255, 255, 230));
+    p.drawRoundedRect(textRect.adjusted(-6 * scale, -4 * scale, 6 * scale, 4 * scale), 4 * scale,
+                      4 * scale);
+    p.restore();
+    p.setPen(QColor(20, 20, 20));
+    p.drawText(textRect, Qt::AlignLeft | Qt::AlignTop, text);
   }
 }
 

@@ -120,6 +120,7 @@ class TissueView : public QOpenGLWidget {
   Field field_ = Field::VonMises;
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
+  double dataLo_ = 0, dataHi_ = 1;  // extremes of the field shown (the colour bar flags clipping)
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
   bool mesh_ = false;
   int sectionAxis_ = 0;

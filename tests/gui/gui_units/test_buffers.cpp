@@ -150,12 +150,45 @@ class BuffersTest : public QObject {
     f[0] = -2.0f;
     f[1] = 5.0f;
     f[2] = std::nanf("");
-    const auto [lo, hi] = autoRange(s, Field::PrincipalMax, false);
-    QCOMPARE(lo, -2.0);
-    QCOMPARE(hi, 5.0);
-    const auto [dlo, dhi] = autoRange(s, Field::PrincipalMax, true);  // zero in the middle
-    QCOMPARE(dlo, -5.0);
-    QCOMPARE(dhi, 5.0);
+    const AutoRange r = autoRange(s, Field::PrincipalMax, false);
+    QCOMPARE(r.lo, -2.0);  // 12 triangles: none left out
+    QCOMPARE(r.hi, 5.0);
+    const AutoRange d = autoRange(s, Field::PrincipalMax, true);  // zero in the middle
+    QCOMPARE(d.lo, -5.0);
+    QCOMPARE(d.hi, 5.0);
+  }
+
+  void autoRangeIgnoresSliversButNotTheProbesSignal() {
+    // 5,000 triangles between 10 and 20 MPa and four slivers at 75: a stress keeps its colours
+    // for the 5,000 (the slivers take the end colour and are reported as the data's extreme).
+    Snapshot s;
+    auto& vm = s.fields[int(Field::VonMises)];
+    for (int i = 0; i < 5000; ++i) vm.push_back(10.0f + 10.0f * float(i) / 4999.0f);
+    for (int i = 0; i < 4; ++i) vm.push_back(75.0f);
+    const AutoRange r = autoRange(s, Field::VonMises, false);
+    QVERIFY(r.hi <= 20.0 && r.hi > 19.9);
+    QVERIFY(r.lo >= 10.0 && r.lo < 10.1);
+    QCOMPARE(r.dataHi, 75.0);
+    QVERIFY(r.clippedHigh());
+    QVERIFY(!r.clippedLow() || r.dataLo < r.lo);
+    // A change from the turgid state keeps its extremes: there the few triangles are the probe.
+    auto& change = s.fields[int(Field::VonMisesChange)];
+    change.assign(5004, 0.0f);
+    change[7] = 3.0f;
+    change[8] = -1.0f;
+    const AutoRange c = autoRange(s, Field::VonMisesChange, true);
+    QCOMPARE(c.lo, -3.0);
+    QCOMPARE(c.hi, 3.0);
+    QVERIFY(!c.clippedHigh() && !c.clippedLow());
+    // Numerical noise (no pressure, no probe) is not stretched over the whole colour bar.
+    for (float& v : vm) v = 1.5e-12f;
+    const AutoRange n = autoRange(s, Field::VonMises, false);
+    QCOMPARE(n.lo, 0.0);
+    QCOMPARE(n.hi, kNoiseFloor);
+    change.assign(5004, -6e-11f);
+    const AutoRange d = autoRange(s, Field::VonMisesChange, true);
+    QCOMPARE(d.lo, -kNoiseFloor);
+    QCOMPARE(d.hi, kNoiseFloor);
   }
 };
 

@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QPushButton>
 #include <QTimer>
@@ -323,6 +324,35 @@ class WindowTest : public QObject {
     QTest::keyClick(view_, Qt::Key_F);
     QTest::keyClick(view_, Qt::Key_R);
     QVERIFY(std::abs(view_->camera().up().z()) > 0.5);
+  }
+
+  void keysWorkWhereverTheFocusIsButSpaceLeavesNumbersAlone() {
+    // The view's keys are the window's: they work from the curve list as from the view.
+    auto* list = w_->plotPanel()->findChild<QListWidget*>();
+    QVERIFY(list);
+    list->setFocus();
+    QTest::keyClick(list, Qt::Key_7);
+    QVERIFY((view_->camera().viewDirection() - Eigen::Vector3d(0, 0, -1)).norm() < 1e-9);
+    QTest::keyClick(list, Qt::Key_1);
+    QVERIFY((view_->camera().viewDirection() - Eigen::Vector3d(0, 1, 0)).norm() < 1e-9);
+    // Space in a number box neither blanks it (it did) nor starts a run; typing still types.
+    auto* box = w_->parameterPanel()->findChild<QDoubleSpinBox*>();
+    QVERIFY(box);
+    box->setFocus();
+    const QString before = box->text();
+    const double value = box->value();
+    box->selectAll();  // as after Tab into the box: a space typed then replaced the whole text
+    QTest::keyClick(box, Qt::Key_Space);
+    QCOMPARE(box->text(), before);
+    QVERIFY(!c_->running());
+    box->selectAll();
+    QTest::keyClick(box, Qt::Key_2);
+    QVERIFY2(box->text().startsWith("2"), qPrintable(box->text()));
+    box->setValue(value);
+    QCOMPARE(box->text(), before);
+    list->setCurrentRow(-1);  // focusing the list made its first curve the selected one
+    list->clearSelection();
+    view_->setFocus();
   }
 
   void runAndCancelCurvesFromTheKeyboard() {
