@@ -70,6 +70,14 @@ class Camera {
   /// to world +z as the direction allows; the target and distance stay.
   void lookAlong(const Eigen::Vector3d& direction);
   void fitToScene() { fit(scene_); }
+  /// Sets the whole pose (a saved one): the target, the camera-to-world rotation (normalised)
+  /// and the distance (positive).
+  void setPose(const Eigen::Vector3d& target, const Eigen::Quaterniond& orientation,
+               double distance) {
+    target_ = target;
+    orientation_ = orientation.normalized();
+    distance_ = distance;
+  }
   void setStandardView(StandardView view);
   /// A three-quarter view from the front, slightly from above, fitted to the scene.
   void reset();

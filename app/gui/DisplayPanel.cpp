@@ -1,5 +1,8 @@
 #include "DisplayPanel.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -152,6 +155,42 @@ bool DisplayPanel::sectionEnabled() const {
 
 void DisplayPanel::setSectionEnabled(bool on) {
   section_->setChecked(on);
+}
+
+DisplaySettings DisplayPanel::settings() const {
+  DisplaySettings d;
+  d.quantity = fieldKey(field());
+  d.colourMap = ColorMap::key(colorMapKind());
+  d.autoRange = auto_->isChecked();
+  d.lo = lo_->value();
+  d.hi = hi_->value();
+  d.outlines = outlines_->isChecked();
+  d.mesh = mesh_->isChecked();
+  d.deformationScale = deformation_->value();
+  d.section = section_->isChecked();
+  d.sectionAxis = axis_->currentIndex();
+  d.sectionPosition = position_->value() / 1000.0;
+  d.keepOtherSide = flip_->isChecked();
+  return d;
+}
+
+void DisplayPanel::applySettings(const DisplaySettings& d) {
+  const int q = quantityIndex(d.quantity);
+  if (q >= 0) field_->setCurrentIndex(field_->findData(q));
+  // After the quantity, whose change may switch the map.
+  for (int k = 0; k < ColorMap::kKindCount; ++k)
+    if (d.colourMap == ColorMap::key(ColorMap::Kind(k))) map_->setCurrentIndex(map_->findData(k));
+  auto_->setChecked(true);  // the manual numbers go in while the boxes are the view's
+  lo_->setValue(d.lo);
+  hi_->setValue(d.hi);
+  auto_->setChecked(d.autoRange);
+  outlines_->setChecked(d.outlines);
+  mesh_->setChecked(d.mesh);
+  deformation_->setValue(d.deformationScale);
+  axis_->setCurrentIndex(std::clamp(d.sectionAxis, 0, 2));
+  position_->setValue(int(std::lround(1000 * std::clamp(d.sectionPosition, 0.0, 1.0))));
+  flip_->setChecked(d.keepOtherSide);
+  section_->setChecked(d.section);
 }
 
 void DisplayPanel::updateUnits() {

@@ -6,6 +6,7 @@
 #include <QWidget>
 
 #include "ColorMap.h"
+#include "SessionFile.h"
 #include "Snapshot.h"
 
 class QCheckBox;
@@ -24,6 +25,10 @@ class DisplayPanel : public QWidget {
   Field field() const;
   ColorMap::Kind colorMapKind() const;
   bool sectionEnabled() const;
+  /// Everything this dock sets, for a session (the camera is left empty: it is the view's).
+  DisplaySettings settings() const;
+  /// Sets every control (each emits its signal, so the view follows).
+  void applySettings(const DisplaySettings& d);
 
  public slots:
   /// The range the view uses (shown in the min/max boxes while the range is automatic).

@@ -9,6 +9,7 @@
 #include "Curves.h"
 #include "PlotPanel.h"
 #include "RecentFiles.h"
+#include "DisplayPanel.h"
 #include "ScreenshotDialog.h"
 #include "io/TissueFiles.h"
 #include "SessionFile.h"
@@ -37,8 +38,13 @@ void showError(QWidget* parent, const QString& title, const QString& text) {
 }
 
 FileActions::FileActions(QWidget* window, SimulationController* controller, TissueView* view,
-                         PlotPanel* plot)
-    : QObject(window), window_(window), controller_(controller), view_(view), plot_(plot) {}
+                         PlotPanel* plot, DisplayPanel* display)
+    : QObject(window),
+      window_(window),
+      controller_(controller),
+      view_(view),
+      plot_(plot),
+      display_(display) {}
 
 void FileActions::open(const QString& path) {
   if (QFileInfo(path).suffix().compare("json", Qt::CaseInsensitive) == 0) {
@@ -60,7 +66,13 @@ void FileActions::openTissue(const QString& path) {
 
 bool FileActions::openSession(const QString& path, QString* error) {
   try {
-    controller_->applySession(loadSession(path.toStdString()));
+    const SessionState session = loadSession(path.toStdString());
+    controller_->applySession(session);
+    // How it was shown: the dock's settings, and the camera once its tissue is in the view.
+    if (session.display) {
+      display_->applySettings(*session.display);
+      if (session.display->camera) view_->setCameraPose(*session.display->camera);
+    }
   } catch (const std::exception& e) {
     if (error) *error = QString::fromUtf8(e.what());
     return false;
@@ -72,7 +84,10 @@ bool FileActions::openSession(const QString& path, QString* error) {
 
 bool FileActions::saveSession(const QString& path, QString* error) {
   try {
-    tp::gui::saveSession(path.toStdString(), controller_->session());
+    SessionState session = controller_->session();
+    session.display = display_->settings();
+    session.display->camera = view_->cameraPose();
+    tp::gui::saveSession(path.toStdString(), session);
   } catch (const std::exception& e) {
     if (error) *error = QString::fromUtf8(e.what());
     return false;

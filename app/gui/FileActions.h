@@ -12,6 +12,7 @@ class QWidget;
 
 namespace tp::gui {
 
+class DisplayPanel;
 class PlotPanel;
 class SimulationController;
 class TissueView;
@@ -23,7 +24,8 @@ class FileActions : public QObject {
   Q_OBJECT
 
  public:
-  FileActions(QWidget* window, SimulationController* controller, TissueView* view, PlotPanel* plot);
+  FileActions(QWidget* window, SimulationController* controller, TissueView* view, PlotPanel* plot,
+              DisplayPanel* display);
 
   /// A session (*.json) or a tissue (anything else).
   void open(const QString& path);
@@ -58,6 +60,7 @@ class FileActions : public QObject {
   SimulationController* controller_;
   TissueView* view_;
   PlotPanel* plot_;
+  DisplayPanel* display_;
 };
 
 }  // namespace tp::gui

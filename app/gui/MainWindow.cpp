@@ -46,7 +46,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   params_ = new ParameterPanel;
   display_ = new DisplayPanel;
   plot_ = new PlotPanel;
-  files_ = new FileActions(this, controller_, view_, plot_);
+  files_ = new FileActions(this, controller_, view_, plot_, display_);
   createDocks();
   createMenus();
   createStatusBar();

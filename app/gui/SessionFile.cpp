@@ -1,5 +1,6 @@
 #include "SessionFile.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ColorMap.h"
+#include "experiment/Quantities.h"
 #include "io/AtomicFile.h"
 
 namespace tp::gui {
@@ -71,6 +74,112 @@ std::vector<CurvePoint> pointsFromJson(const json& a, const std::string& what) {
 
 }  // namespace
 
+namespace {
+
+json displayToJson(const DisplaySettings& d) {
+  json j = {{"quantity", d.quantity},
+            {"colour_map", d.colourMap},
+            {"auto_range", d.autoRange},
+            {"range", {d.lo, d.hi}},
+            {"outlines", d.outlines},
+            {"mesh", d.mesh},
+            {"deformation_scale", d.deformationScale},
+            {"section",
+             {{"on", d.section},
+              {"axis", std::string(1, "xyz"[std::clamp(d.sectionAxis, 0, 2)])},
+              {"position", d.sectionPosition},
+              {"keep_other_side", d.keepOtherSide}}}};
+  if (d.camera)
+    j["camera"] = {{"target", vec(d.camera->target)},
+                   {"orientation",
+                    {d.camera->orientation[0], d.camera->orientation[1], d.camera->orientation[2],
+                     d.camera->orientation[3]}},
+                   {"distance", d.camera->distance}};
+  return j;
+}
+
+// Every key is optional (defaults as in DisplaySettings); a key present must hold a valid value.
+DisplaySettings displayFromJson(const json& j) {
+  if (!j.is_object()) throw std::runtime_error("'display' must be an object");
+  DisplaySettings d;
+  auto boolean = [&](const json& o, const char* key, bool& out, const std::string& where) {
+    if (!o.contains(key)) return;
+    if (!o.at(key).is_boolean()) throw std::runtime_error(where + key + " must be true or false");
+    out = o.at(key).get<bool>();
+  };
+  auto number = [&](const json& o, const char* key, double lo, double hi, double& out,
+                    const std::string& where) {
+    if (!o.contains(key)) return;
+    const json& v = o.at(key);
+    if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
+      throw std::runtime_error(where + key + " must be a number in [" + std::to_string(lo) +
+                               ", " + std::to_string(hi) + "], not " + v.dump());
+    out = v.get<double>();
+  };
+  if (j.contains("quantity")) {
+    const json& q = j.at("quantity");
+    if (!q.is_string() || quantityIndex(q.get<std::string>()) < 0)
+      throw std::runtime_error("display.quantity " + q.dump() + " is not a known quantity");
+    d.quantity = q.get<std::string>();
+  }
+  if (j.contains("colour_map")) {
+    const json& m = j.at("colour_map");
+    bool known = false;
+    for (int k = 0; k < ColorMap::kKindCount && m.is_string(); ++k)
+      known |= m.get<std::string>() == ColorMap::key(ColorMap::Kind(k));
+    if (!known) throw std::runtime_error("display.colour_map " + m.dump() + " is not a colour map");
+    d.colourMap = m.get<std::string>();
+  }
+  boolean(j, "auto_range", d.autoRange, "display.");
+  if (j.contains("range")) {
+    const json& r = j.at("range");
+    if (!r.is_array() || r.size() != 2 || !r[0].is_number() || !r[1].is_number() ||
+        !std::isfinite(r[0].get<double>()) || !std::isfinite(r[1].get<double>()))
+      throw std::runtime_error("display.range must be two finite numbers [low, high]");
+    d.lo = r[0].get<double>();
+    d.hi = r[1].get<double>();
+  }
+  boolean(j, "outlines", d.outlines, "display.");
+  boolean(j, "mesh", d.mesh, "display.");
+  number(j, "deformation_scale", 1.0, 50.0, d.deformationScale, "display.");
+  if (j.contains("section")) {
+    const json& sec = j.at("section");
+    if (!sec.is_object()) throw std::runtime_error("display.section must be an object");
+    boolean(sec, "on", d.section, "display.section.");
+    if (sec.contains("axis")) {
+      const json& a = sec.at("axis");
+      const std::string axis = a.is_string() ? a.get<std::string>() : "";
+      if (axis != "x" && axis != "y" && axis != "z")
+        throw std::runtime_error("display.section.axis must be \"x\", \"y\" or \"z\", not " +
+                                 a.dump());
+      d.sectionAxis = axis[0] - 'x';
+    }
+    number(sec, "position", 0.0, 1.0, d.sectionPosition, "display.section.");
+    boolean(sec, "keep_other_side", d.keepOtherSide, "display.section.");
+  }
+  if (j.contains("camera")) {
+    const json& c = j.at("camera");
+    if (!c.is_object()) throw std::runtime_error("display.camera must be an object");
+    DisplaySettings::Camera cam;
+    cam.target = vecFrom(c.value("target", json()), "display.camera.target");
+    const json& o = c.value("orientation", json());
+    bool ok = o.is_array() && o.size() == 4;
+    for (int i = 0; ok && i < 4; ++i) {
+      ok = o[i].is_number() && std::isfinite(o[i].get<double>());
+      if (ok) cam.orientation[i] = o[i].get<double>();
+    }
+    if (!ok || !(cam.orientation.norm() > 1e-6))
+      throw std::runtime_error("display.camera.orientation must be a quaternion [w, x, y, z]");
+    cam.orientation.normalize();
+    number(c, "distance", 1e-9, 1e9, cam.distance, "display.camera.");
+    if (!c.contains("distance")) throw std::runtime_error("display.camera.distance is missing");
+    d.camera = cam;
+  }
+  return d;
+}
+
+}  // namespace
+
 json sessionToJson(const SessionState& s) {
   json j;
   j["format"] = kFormat;
@@ -95,6 +204,7 @@ json sessionToJson(const SessionState& s) {
                              {"method", c.meshErrorMethod}};
     j["curves"].push_back(std::move(curve));
   }
+  if (s.display) j["display"] = displayToJson(*s.display);
   return j;
 }
 
@@ -145,6 +255,7 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
         s.curves.push_back(std::move(nc));
       }
     }
+    if (j.contains("display")) s.display = displayFromJson(j.at("display"));
     return s;
   } catch (const json::exception& e) {
     throw std::runtime_error(nameForErrors + ": " + e.what());

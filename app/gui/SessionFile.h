@@ -5,7 +5,11 @@
 //   {"format": "tissueprobe-session", "version": 1, "tissue": "/path/meristem.ply",
 //    "parameters": {...}, "schedule": {...}, "sites": [[0, 0, 45.8]], "current_site": 0,
 //    "curves": [{"name": "...", "site": [x, y, z], "parameters": {...}, "live": false,
-//                "points": [[depth, force, iterations, residual, converged, unloading], ...]}]}
+//                "points": [[depth, force, iterations, residual, converged, unloading], ...]}],
+//    "display": {"quantity": "von_mises", "colour_map": "viridis", "auto_range": true,
+//                "range": [0, 20], "outlines": true, "mesh": false, "deformation_scale": 1,
+//                "section": {"on": false, "axis": "y", "position": 0.5, "keep_other_side": false},
+//                "camera": {"target": [x, y, z], "orientation": [w, x, y, z], "distance": d}}}
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -18,6 +22,26 @@
 
 namespace tp::gui {
 
+/// How the tissue was shown (the Colour and section dock and the camera). Keys as in the JSON.
+struct DisplaySettings {
+  std::string quantity = "von_mises";  // a key of core/experiment/Quantities
+  std::string colourMap = "viridis";   // ColorMap::key
+  bool autoRange = true;
+  double lo = 0, hi = 1;  // the manual range, in the quantity's unit
+  bool outlines = true, mesh = false;
+  double deformationScale = 1;  // 1..50
+  bool section = false;
+  int sectionAxis = 1;            // 0 x, 1 y, 2 z
+  double sectionPosition = 0.5;   // 0..1 across the tissue's extent
+  bool keepOtherSide = false;
+  struct Camera {
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();  // µm
+    Eigen::Vector4d orientation{1, 0, 0, 0};           // unit quaternion w, x, y, z
+    double distance = 1;                               // µm, eye to target
+  };
+  std::optional<Camera> camera;  // none: the initial view
+};
+
 struct SessionState {
   std::string tissuePath;  // empty: the shipped default tissue
   SimulationParams params;
@@ -25,6 +49,7 @@ struct SessionState {
   std::vector<Eigen::Vector3d> sites;  // µm, in the order they were picked
   int currentSite = -1;                // index into sites, −1 = the default site (the top)
   std::vector<NamedCurve> curves;
+  std::optional<DisplaySettings> display;  // none in sessions of earlier versions
 };
 
 nlohmann::json sessionToJson(const SessionState& s);

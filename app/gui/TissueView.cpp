@@ -112,6 +112,27 @@ void TissueView::applyDeformationScale() {
   snapshot_.contactCenter = source_.contactCenter + (s - 1.0) * source_.depth * source_.axis;
 }
 
+namespace {
+Eigen::Quaterniond quaternionOf(const Eigen::Vector4d& wxyz) {
+  return Eigen::Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+}
+}  // namespace
+
+DisplaySettings::Camera TissueView::cameraPose() const {
+  DisplaySettings::Camera pose;
+  pose.target = camera_.target();
+  const Eigen::Quaterniond& q = camera_.orientation();
+  pose.orientation = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+  pose.distance = camera_.distance();
+  return pose;
+}
+
+void TissueView::setCameraPose(const DisplaySettings::Camera& pose) {
+  camera_.setPose(pose.target, quaternionOf(pose.orientation), pose.distance);
+  pendingPose_ = pose;
+  update();
+}
+
 void TissueView::setSnapshot(const Snapshot& s) {
   const bool newTissue = !s.empty() && (snapshot_.empty() || s.phase == Snapshot::Phase::Rest ||
                                         QString::fromStdString(s.geometry->path) != lastPath_);
@@ -132,7 +153,13 @@ void TissueView::setSnapshot(const Snapshot& s) {
       b.extend(c - Eigen::Vector3d::Constant(s.probeRadius));
     }
     camera_.setSceneBounds(b);
-    if (newTissue) camera_.reset();
+    if (newTissue && pendingPose_) {
+      camera_.setPose(pendingPose_->target, quaternionOf(pendingPose_->orientation),
+                      pendingPose_->distance);
+      pendingPose_.reset();
+    } else if (newTissue) {
+      camera_.reset();
+    }
   }
   updateRange();
   update();

@@ -17,6 +17,7 @@
 #include "ColorMap.h"
 #include "GlRenderer.h"
 #include "Picking.h"
+#include "SessionFile.h"
 #include "Snapshot.h"
 #include "SnapshotBuffers.h"
 
@@ -31,6 +32,11 @@ class TissueView : public QOpenGLWidget {
 
   Camera& camera() { return camera_; }
   const Camera& camera() const { return camera_; }
+  /// The camera's pose, for a session.
+  DisplaySettings::Camera cameraPose() const;
+  /// Sets the camera's pose now and again when the next tissue is shown (a session sets it
+  /// before its tissue arrives, which would otherwise reset the view).
+  void setCameraPose(const DisplaySettings::Camera& pose);
   const Snapshot& snapshot() const { return source_; }
   const ColorMap& colorMap() const { return map_; }
   Field field() const { return field_; }
@@ -120,7 +126,8 @@ class TissueView : public QOpenGLWidget {
   Field field_ = Field::VonMises;
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
-  double dataLo_ = 0, dataHi_ = 1;  // extremes of the field shown (the colour bar flags clipping)
+  double dataLo_ = 0, dataHi_ = 1;
+  std::optional<DisplaySettings::Camera> pendingPose_;  // extremes of the field shown (the colour bar flags clipping)
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
   bool mesh_ = false;
   int sectionAxis_ = 0;

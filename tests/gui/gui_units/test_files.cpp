@@ -82,6 +82,78 @@ class FilesTest : public QObject {
       QCOMPARE(r.curves[i].live, s.curves[i].live);
       QVERIFY(samePoints(r.curves[i].points, s.curves[i].points));
     }
+    QVERIFY(!r.display);  // none given, none read
+  }
+
+  void sessionKeepsHowTheTissueWasShown() {
+    SessionState s;
+    DisplaySettings d;
+    d.quantity = "von_mises_change";
+    d.colourMap = "coolwarm";
+    d.autoRange = false;
+    d.lo = -2.5;
+    d.hi = 4.25;
+    d.outlines = false;
+    d.mesh = true;
+    d.deformationScale = 20;
+    d.section = true;
+    d.sectionAxis = 2;
+    d.sectionPosition = 0.375;
+    d.keepOtherSide = true;
+    d.camera = DisplaySettings::Camera{Eigen::Vector3d(1, -2, 40.5),
+                                       Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), 12.75};
+    s.display = d;
+    const SessionState r = sessionFromJson(sessionToJson(s), "test");
+    QVERIFY(r.display);
+    const DisplaySettings& got = *r.display;
+    QCOMPARE(got.quantity, d.quantity);
+    QCOMPARE(got.colourMap, d.colourMap);
+    QCOMPARE(got.autoRange, false);
+    QCOMPARE(got.lo, -2.5);
+    QCOMPARE(got.hi, 4.25);
+    QCOMPARE(got.outlines, false);
+    QCOMPARE(got.mesh, true);
+    QCOMPARE(got.deformationScale, 20.0);
+    QCOMPARE(got.section, true);
+    QCOMPARE(got.sectionAxis, 2);
+    QCOMPARE(got.sectionPosition, 0.375);
+    QCOMPARE(got.keepOtherSide, true);
+    QVERIFY(got.camera);
+    QVERIFY(got.camera->target == d.camera->target);
+    QVERIFY((got.camera->orientation - d.camera->orientation).norm() < 1e-15);
+    QCOMPARE(got.camera->distance, 12.75);
+    // Bad values are refused naming the key.
+    auto message = [](const nlohmann::json& j) {
+      try {
+        sessionFromJson(j, "s.json");
+      } catch (const std::runtime_error& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    const nlohmann::json good = sessionToJson(s);
+    QVERIFY(message(good).empty());
+    nlohmann::json j = good;
+    j["display"]["quantity"] = "colour";
+    QVERIFY(message(j).find("display.quantity \"colour\" is not a known quantity") !=
+            std::string::npos);
+    j = good;
+    j["display"]["deformation_scale"] = 500;
+    QVERIFY(message(j).find("display.deformation_scale must be a number in [1") !=
+            std::string::npos);
+    j = good;
+    j["display"]["section"]["axis"] = "w";
+    QVERIFY(message(j).find("display.section.axis") != std::string::npos);
+    j = good;
+    j["display"]["camera"]["orientation"] = {0, 0, 0, 0};
+    QVERIFY(message(j).find("display.camera.orientation") != std::string::npos);
+    j = good;
+    j["display"]["colour_map"] = "jet";
+    QVERIFY(message(j).find("display.colour_map") != std::string::npos);
+    // A session without the camera keeps the rest.
+    j = good;
+    j["display"].erase("camera");
+    QVERIFY(!sessionFromJson(j, "s.json").display->camera);
   }
 
   void sessionFileKeepsTheTissueNextToIt() {

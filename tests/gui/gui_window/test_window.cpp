@@ -429,7 +429,21 @@ class WindowTest : public QObject {
   void sessionSavedAndReopened() {
     const QString path = dir_.path() + "/session.json";
     QString error;
+    // How the tissue is shown goes into the session too.
+    DisplaySettings shown = w_->displayPanel()->settings();
+    shown.quantity = "displacement";
+    shown.deformationScale = 10;
+    shown.section = true;
+    shown.sectionAxis = 0;
+    shown.sectionPosition = 0.25;
+    w_->displayPanel()->applySettings(shown);
+    view_->setStandardView(Camera::StandardView::Top);
+    const DisplaySettings::Camera pose = view_->cameraPose();
+    QCOMPARE(view_->field(), Field::Displacement);
     QVERIFY2(w_->fileActions()->saveSession(path, &error), qPrintable(error));
+    w_->displayPanel()->applySettings(DisplaySettings{});
+    view_->resetView();
+    QCOMPARE(view_->field(), Field::VonMises);
     const auto names = c_->curves();
     const Eigen::Vector3d site = c_->latest().site;
     c_->clearCurves();
@@ -442,6 +456,19 @@ class WindowTest : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
     waitIdle();
     QVERIFY((c_->latest().site - site).norm() < 0.5);  // the last site, prepared again
+    const DisplaySettings back = w_->displayPanel()->settings();
+    QCOMPARE(back.quantity, std::string("displacement"));
+    QCOMPARE(back.deformationScale, 10.0);
+    QVERIFY(back.section);
+    QCOMPARE(back.sectionAxis, 0);
+    QCOMPARE(back.sectionPosition, 0.25);
+    QCOMPARE(view_->field(), Field::Displacement);
+    QCOMPARE(view_->deformationScale(), 10.0);
+    QVERIFY((view_->cameraPose().target - pose.target).norm() < 1e-9);
+    QVERIFY((view_->cameraPose().orientation - pose.orientation).norm() < 1e-9);
+    QCOMPARE(view_->cameraPose().distance, pose.distance);
+    w_->displayPanel()->applySettings(DisplaySettings{});
+    view_->resetView();
   }
 
   void nondimensionalAxesShowTheCellSize() {
