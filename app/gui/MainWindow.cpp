@@ -289,6 +289,10 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
+  // Earlier sites on the tissue, the selected curve's highlighted.
+  connect(c, &SimulationController::sitesChanged, this, &MainWindow::updateSiteMarkers);
+  connect(c, &SimulationController::curvesChanged, this, &MainWindow::updateSiteMarkers);
+  connect(plot_, &PlotPanel::selectionChanged, this, &MainWindow::updateSiteMarkers);
   // The plot and the files.
   connect(plot_, &PlotPanel::removeRequested, c, &SimulationController::removeCurve);
   connect(plot_, &PlotPanel::clearRequested, this, [this, c] {
@@ -334,6 +338,38 @@ void MainWindow::showControls() {
          "Arrows: turn · +/-: zoom · F: fit · 1/3/7: front/right/top · R: reset · "
          "Z: zoom to the probe\n"
          "Space: run the curve · Esc: cancel"));
+}
+
+void MainWindow::updateSiteMarkers() {
+  // Each curve belongs to the site nearest its own (a site's point moves a little when it is
+  // prepared again with other parameters); a site takes the colour of its newest curve.
+  const auto& sites = controller_->sites();
+  const auto& curves = controller_->curves();
+  auto siteOf = [&](const NamedCurve& curve) {
+    int best = -1;
+    double bestDistance = 2.0;  // µm: farther, the curve is of a site not in the list
+    for (size_t i = 0; i < sites.size(); ++i) {
+      const double d = (sites[i] - curve.site).norm();
+      if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
+    }
+    return best;
+  };
+  std::vector<TissueView::SiteMarker> markers(sites.size());
+  for (size_t i = 0; i < sites.size(); ++i) {
+    markers[i].position = sites[i];
+    markers[i].number = static_cast<int>(i) + 1;
+  }
+  for (size_t k = 0; k < curves.size(); ++k)
+    if (const int i = siteOf(curves[k]); i >= 0)
+      markers[i].colour = PlotPanel::colourOf(curves[k], static_cast<int>(k));
+  const int selected = plot_->selectedCurve();
+  if (selected >= 0 && selected < static_cast<int>(curves.size()))
+    if (const int i = siteOf(curves[selected]); i >= 0) markers[i].highlighted = true;
+  // The current site has the probe on it: no disc over the contact, unless it is selected.
+  const int current = controller_->currentSite();
+  if (current >= 0 && current < static_cast<int>(markers.size()) && !markers[current].highlighted)
+    markers.erase(markers.begin() + current);
+  view_->setSiteMarkers(std::move(markers));
 }
 
 bool MainWindow::eventFilter(QObject* watched, QEvent* e) {

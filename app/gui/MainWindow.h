@@ -44,6 +44,7 @@ class MainWindow : public QMainWindow {
   void createStatusBar();
   void wire();
   void updateRecentMenu();
+  void updateSiteMarkers();
   void showControls();
 
   SimulationController* controller_;

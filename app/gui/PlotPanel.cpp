@@ -27,6 +27,11 @@ const QColor kPalette[] = {QColor(31, 119, 180),  QColor(255, 127, 14),  QColor(
 
 }  // namespace
 
+QColor PlotPanel::colourOf(const NamedCurve& c, int index) {
+  const int k = c.colour >= 0 ? c.colour : index;
+  return kPalette[k % std::size(kPalette)];
+}
+
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   setObjectName("plotPanel");
   plot_ = new QCustomPlot;
@@ -72,6 +77,10 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   });
   connect(clear, &QPushButton::clicked, this, &PlotPanel::clearRequested);
   connect(nondim_, &QCheckBox::toggled, this, &PlotPanel::redraw);
+  connect(list_, &QListWidget::currentRowChanged, this, [this](int row) {
+    redraw();
+    emit selectionChanged(row);
+  });
   redraw();
 }
 
@@ -142,9 +151,12 @@ void PlotPanel::redraw() {
     const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
     QCPGraph* g = plot_->addGraph();
     g->setName(legendLabel(c));
-    const int index = c.colour >= 0 ? c.colour : static_cast<int>(i);
-    const QColor colour = kPalette[index % std::size(kPalette)];
-    g->setPen(QPen(colour, 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
+    QColor colour = colourOf(c, static_cast<int>(i));
+    // The curve selected in the list stands out: thicker, the others faded.
+    const int selected = list_->currentRow();
+    const bool highlighted = static_cast<int>(i) == selected;
+    if (selected >= 0 && !highlighted) colour.setAlpha(90);
+    g->setPen(QPen(colour, highlighted ? 3.6 : 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
     g->setScatterStyle(
         QCPScatterStyle(c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5));
     // Loading and unloading apart: the unloading branch (a run's way back) is its own graph,
@@ -164,7 +176,7 @@ void PlotPanel::redraw() {
       }
       QCPGraph* u = plot_->addGraph();
       u->setName(label(c) + tr(" (unloading)"));
-      u->setPen(QPen(colour, 1.8, Qt::DotLine));
+      u->setPen(QPen(colour, highlighted ? 3.6 : 1.8, Qt::DotLine));
       u->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, colour, 5));
       u->setData(ux, uy);
       u->removeFromLegend();

@@ -3,6 +3,7 @@
 // clear curves, real (µm, µN) or nondimensional axes ([I] = I/L, [F] = F/(E L²)), and export to
 // PNG, SVG or PDF (atomic writes).
 
+#include <QColor>
 #include <QString>
 #include <QWidget>
 
@@ -27,6 +28,8 @@ class PlotPanel : public QWidget {
   void setNondimensional(bool on);
   /// Index of the curve selected in the list, −1 if none.
   int selectedCurve() const;
+  /// The colour curve `index` of the list is drawn in (it keeps it when others are removed).
+  static QColor colourOf(const NamedCurve& curve, int index);
   /// Curves shown (a curve with an unloading branch draws two graphs).
   int curveCount() const { return static_cast<int>(curves_.size()); }
 
@@ -40,6 +43,8 @@ class PlotPanel : public QWidget {
 
  signals:
   void removeRequested(int index);
+  /// The curve selected in the list changed (−1: none).
+  void selectionChanged(int index);
   void clearRequested();
 
  private:

@@ -28,6 +28,7 @@ SimulationController::SimulationController(QObject* parent) : QObject(parent) {
             tissuePath_ = path;
             sites_ = pendingSites_;
             currentSite_ = pendingCurrentSite_;
+            emit sitesChanged();
             emit tissueLoaded(path, summary);
           });
   connect(worker_, &SimulationWorker::loadFailed, this,
@@ -150,6 +151,7 @@ void SimulationController::recordSite(const Eigen::Vector3d& site, bool isNew) {
   } else {
     sites_[currentSite_] = site;
   }
+  emit sitesChanged();
 }
 
 void SimulationController::onSnapshot(const Snapshot& s) {

@@ -52,6 +52,9 @@ class SimulationController : public QObject {
   const SimulationParams& params() const { return params_; }
   const Schedule& schedule() const { return schedule_; }
   const std::vector<NamedCurve>& curves() const { return curves_; }
+  /// The sites picked on the current tissue (µm), in order: "site N" is sites()[N − 1].
+  const std::vector<Eigen::Vector3d>& sites() const { return sites_; }
+  int currentSite() const { return currentSite_; }
   /// Curves made since the session was last saved (or its curves exported), which closing the
   /// window or clearing would lose.
   bool hasUnsavedCurves() const { return unsaved_ && !curves_.empty(); }
@@ -69,6 +72,7 @@ class SimulationController : public QObject {
  signals:
   void snapshotReady(const tp::gui::Snapshot& snapshot);
   void curvesChanged();
+  void sitesChanged();
   void busyChanged(bool busy, const QString& what);
   void statusMessage(const QString& text);
   void solveFailed(const QString& message);

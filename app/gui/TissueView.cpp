@@ -510,6 +510,60 @@ GlRenderer::Frame TissueView::frame(const Camera& cam) const {
   return f;
 }
 
+void TissueView::setSiteMarkers(std::vector<SiteMarker> markers) {
+  markers_ = std::move(markers);
+  update();
+}
+
+// Each earlier site as a numbered disc; one hidden behind the tissue (or cut away by the
+// section) as a faint ring, so that sites on the far side are not mistaken for near ones; the
+// selected curve's site larger, ringed in yellow.
+void TissueView::paintSiteMarkers(QPainter& p, const QSize& size, double scale) const {
+  if (markers_.empty() || snapshot_.empty()) return;
+  ensurePicker();
+  Camera cam = camera_;
+  cam.setViewport(size.width(), size.height());
+  const std::optional<ClipPlane> clip = clipPlane();
+  p.save();
+  p.setRenderHint(QPainter::Antialiasing);
+  QFont font = p.font();
+  font.setPointSizeF(8.0 * scale);
+  font.setBold(true);
+  p.setFont(font);
+  for (const SiteMarker& m : markers_) {
+    const Eigen::Vector3d px = cam.project(m.position);
+    if (!(px.z() > -1 && px.z() < 1)) continue;  // behind the eye or beyond the far plane
+    const Eigen::Vector3d eye = cam.eye();
+    const double toSite = (m.position - eye).norm();
+    Ray ray;
+    ray.origin = eye;
+    ray.direction = (m.position - eye) / toSite;
+    const std::optional<Hit> hit = picker_.pick(ray, {}, clip);
+    // The site lies on the surface it was picked on; the state shown may have moved it a little
+    // (a dimple, a deformation scale): a hit within a cell's fraction in front still counts.
+    const double tolerance = std::max(0.5, 0.02 * toSite) + deformationScale_ * 0.5;
+    const bool hidden = (hit && hit->distance < toSite - tolerance) ||
+                        (clip && !clip->keeps(m.position));
+    const double r = (m.highlighted ? 10.0 : 7.5) * scale;
+    const QPointF c(px.x(), px.y());
+    QColor fill = m.colour.isValid() ? m.colour : QColor(90, 90, 90);
+    if (hidden) {
+      fill.setAlpha(70);
+      p.setPen(QPen(fill, 1.5 * scale));
+      p.setBrush(Qt::NoBrush);
+    } else {
+      p.setPen(QPen(m.highlighted ? QColor(255, 215, 0) : QColor(255, 255, 255),
+                    (m.highlighted ? 3.0 : 1.5) * scale));
+      p.setBrush(fill);
+    }
+    p.drawEllipse(c, r, r);
+    p.setPen(hidden ? fill : QColor(255, 255, 255));
+    p.drawText(QRectF(c.x() - r, c.y() - r, 2 * r, 2 * r), Qt::AlignCenter,
+               QString::number(m.number));
+  }
+  p.restore();
+}
+
 void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) const {
   const QRectF area(QPointF(0, 0), QSizeF(size));
   if (!glError_.isEmpty()) {
@@ -526,6 +580,7 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
   }
   const QString title = QStringLiteral("%1 (%2)").arg(QString::fromUtf8(fieldName(field_)),
                                                       QString::fromUtf8(fieldUnit(field_)));
+  paintSiteMarkers(p, size, scale);
   paintColorBar(p, area, map_, title, scale, dataLo_, dataHi_);
   if (snapshot_.probeVisible) {
     QFont font = p.font();

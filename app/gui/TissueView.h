@@ -6,6 +6,7 @@
 //   site · right drag or ctrl+left drag (vertical): probe depth · arrows: orbit · +/-: zoom ·
 //   F fit · 1/3/7 front/right/top · R reset · Z zoom to the probe.
 
+#include <QColor>
 #include <QImage>
 #include <QOpenGLWidget>
 #include <QPoint>
@@ -32,6 +33,15 @@ class TissueView : public QOpenGLWidget {
 
   Camera& camera() { return camera_; }
   const Camera& camera() const { return camera_; }
+  /// A site picked earlier, marked on the tissue with its number.
+  struct SiteMarker {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // µm
+    int number = 0;                                      // "site N"
+    QColor colour;                                       // of its curve (or grey)
+    bool highlighted = false;                            // the selected curve's site
+  };
+  void setSiteMarkers(std::vector<SiteMarker> markers);
+  const std::vector<SiteMarker>& siteMarkers() const { return markers_; }
   /// The camera's pose, for a session.
   DisplaySettings::Camera cameraPose() const;
   /// Sets the camera's pose now and again when the next tissue is shown (a session sets it
@@ -112,6 +122,7 @@ class TissueView : public QOpenGLWidget {
   void updateRange();
   void updateHover(const QPoint& pixel);
   GlRenderer::Frame frame(const Camera& camera) const;
+  void paintSiteMarkers(QPainter& p, const QSize& size, double scale) const;
   void paintOverlay(QPainter& painter, const QSize& size, double scale) const;
   void ensurePicker() const;
   void sendPendingDepth();
@@ -127,7 +138,8 @@ class TissueView : public QOpenGLWidget {
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
   double dataLo_ = 0, dataHi_ = 1;
-  std::optional<DisplaySettings::Camera> pendingPose_;  // extremes of the field shown (the colour bar flags clipping)
+  std::optional<DisplaySettings::Camera> pendingPose_;
+  std::vector<SiteMarker> markers_;  // extremes of the field shown (the colour bar flags clipping)
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
   bool mesh_ = false;
   int sectionAxis_ = 0;

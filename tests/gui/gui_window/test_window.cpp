@@ -388,6 +388,39 @@ class WindowTest : public QObject {
     QVERIFY(stopped);
   }
 
+  void earlierSitesAreMarkedAndTheSelectedCurvesSiteStandsOut() {
+    // Two sites so far: the default (top) and the one clicked; the probe is on the second, so
+    // only the first has a disc, numbered as the curves name their sites.
+    const auto& sites = c_->sites();
+    QCOMPARE(int(sites.size()), 2);
+    QCOMPARE(c_->currentSite(), 1);
+    QCOMPARE(int(view_->siteMarkers().size()), 1);
+    QCOMPARE(view_->siteMarkers()[0].number, 1);
+    QVERIFY(!view_->siteMarkers()[0].highlighted);
+    QVERIFY(!view_->siteMarkers()[0].colour.isValid());  // no curve there
+    // Selecting a curve of site 2 marks site 2 (in the curve's colour) and thickens its graph.
+    auto* list = w_->plotPanel()->findChild<QListWidget*>();
+    QVERIFY(list && list->count() >= 1);
+    QVERIFY(c_->curves()[0].name.rfind("site 2", 0) == 0);
+    list->setCurrentRow(0);
+    QCOMPARE(int(view_->siteMarkers().size()), 2);
+    const auto& marked = view_->siteMarkers()[1];
+    QCOMPARE(marked.number, 2);
+    QVERIFY(marked.highlighted);
+    // All the curves so far are of site 2: it takes the newest one's colour.
+    const int newest = int(c_->curves().size()) - 1;
+    QCOMPARE(marked.colour, PlotPanel::colourOf(c_->curves()[newest], newest));
+    QVERIFY((marked.position - sites[1]).norm() < 1e-12);
+    QCOMPARE(w_->plotPanel()->plot()->graph(0)->pen().widthF(), 3.6);
+    QVERIFY(c_->curves().size() >= 2);  // the newest curve's graph (drawn last) is faded
+    QCustomPlot* plot = w_->plotPanel()->plot();
+    QCOMPARE(plot->graph(plot->graphCount() - 1)->pen().color().alpha(), 90);
+    list->setCurrentRow(-1);
+    list->clearSelection();
+    QCOMPARE(int(view_->siteMarkers().size()), 1);
+    QCOMPARE(w_->plotPanel()->plot()->graph(0)->pen().widthF(), 1.8);
+  }
+
   void exportsAreWrittenAndReadBack() {
     QString error;
     PlotPanel* plot = w_->plotPanel();
