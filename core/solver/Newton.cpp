@@ -108,11 +108,11 @@ bool StaticSolver::factorizeTangent(double& shift, double maxDiag, int& factoriz
   return false;
 }
 
-bool StaticSolver::tangentSolve(const Points& x, const Eigen::VectorXd& load,
-                                Eigen::VectorXd& displacement) {
+bool StaticSolver::tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
+                                Eigen::MatrixXd& displacements) {
   const DofMap& dofs = model_.dofs();
   const int n = dofs.freeCount();
-  if (load.size() != dofs.fullCount() || n == 0) return false;
+  if (loads.rows() != dofs.fullCount() || loads.cols() == 0 || n == 0) return false;
   if (analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz()) {
     chol_.analyze(model_.pattern());
     analyzedFor_ = &model_.pattern();
@@ -126,7 +126,7 @@ bool StaticSolver::tangentSolve(const Points& x, const Eigen::VectorXd& load,
   for (int j = 0; j < n; ++j)
     maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
   if (!(maxDiag > 0)) return false;
-  double shift = lastShift_;
+  double shift = 0;  // the exact tangent: derivatives of an equilibrium (fit sensitivities)
   int factorizations = 0;
   std::string why;
   const auto start = Clock::now();
@@ -139,12 +139,14 @@ bool StaticSolver::tangentSolve(const Points& x, const Eigen::VectorXd& load,
   lastPcgFailed_ = false;
   // The pattern may carry a bending term's edge unknowns after the positions (Model::pattern()):
   // they take a zero right-hand side and their part of the solution is not used.
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.pattern().n), u;
-  for (int i = 0; i < n; ++i) f[i] = load[dofs.freeDofs()[i]];
-  chol_.solve(f, u);
-  displacement.setZero(dofs.fullCount());
-  for (int i = 0; i < n; ++i) displacement[dofs.freeDofs()[i]] = u[i];
-  return displacement.allFinite();
+  displacements.setZero(dofs.fullCount(), loads.cols());
+  for (Eigen::Index c = 0; c < loads.cols(); ++c) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.pattern().n), u;
+    for (int i = 0; i < n; ++i) f[i] = loads(dofs.freeDofs()[i], c);
+    chol_.solve(f, u);
+    for (int i = 0; i < n; ++i) displacements(dofs.freeDofs()[i], c) = u[i];
+  }
+  return displacements.allFinite();
 }
 
 SolveReport StaticSolver::solve(Points& x, ForceControl* fc) {

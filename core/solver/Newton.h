@@ -21,8 +21,9 @@ class StaticSolver final : public EquilibriumSolver {
   explicit StaticSolver(Model& model, SolverOptions options = {});
 
   SolveReport solve(Points& x, ForceControl* fc = nullptr) override;
-  bool tangentSolve(const Points& x, const Eigen::VectorXd& load,
-                    Eigen::VectorXd& displacement) override;
+  using EquilibriumSolver::tangentSolve;
+  bool tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
+                    Eigen::MatrixXd& displacements) override;
   SolverOptions& options() override { return options_; }
   const SolverTotals& totals() const override { return totals_; }
   const Evaluation& lastEvaluation() const override { return ev_; }

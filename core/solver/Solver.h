@@ -77,8 +77,17 @@ class EquilibriumSolver {
   virtual SolveReport solve(Points& x, ForceControl* fc = nullptr) = 0;
   /// The linear response at x: solves K(x) u = load (3V components; clamped ones ignored, and 0
   /// in u) with the tangent K at x. False when this solver has no tangent (or it fails).
-  virtual bool tangentSolve(const Points& /*x*/, const Eigen::VectorXd& /*load*/,
-                            Eigen::VectorXd& /*displacement*/) {
+  virtual bool tangentSolve(const Points& x, const Eigen::VectorXd& load,
+                            Eigen::VectorXd& displacement) {
+    Eigen::MatrixXd u;
+    if (!tangentSolve(x, Eigen::MatrixXd(load), u)) return false;
+    displacement = u.col(0);
+    return true;
+  }
+  /// The same for several loads (one per column) with one factorisation of K(x), unshifted (an
+  /// equilibrium's tangent is positive definite; a diagonal shift is added only if it is not).
+  virtual bool tangentSolve(const Points& /*x*/, const Eigen::MatrixXd& /*loads*/,
+                            Eigen::MatrixXd& /*displacements*/) {
     return false;
   }
   /// The model evaluated at the last iterate (at the equilibrium after a successful solve).

@@ -1,0 +1,122 @@
+#include "experiment/Sensitivity.h"
+
+#include <cmath>
+
+namespace tp {
+
+namespace {
+
+// −∂g/∂E, −∂g/∂p, −∂g/∂h at x (3V each), from the terms evaluated alone.
+Eigen::MatrixXd parameterLoads(Model& model, const Points& x) {
+  const int n3 = static_cast<int>(x.size());
+  Eigen::VectorXd gMembrane = Eigen::VectorXd::Zero(n3), gBending = Eigen::VectorXd::Zero(n3),
+                  gContact = Eigen::VectorXd::Zero(n3), dVdx = Eigen::VectorXd::Zero(n3);
+  Evaluation ev;
+  const auto& terms = model.terms();
+  for (int t = 0; t < static_cast<int>(terms.size()); ++t) {
+    const EnergyPart part = terms[t]->part();
+    if (part == EnergyPart::Membrane || part == EnergyPart::Bending ||
+        part == EnergyPart::Contact) {
+      model.evaluate(x, ev, EvalOptions{.hessian = false, .onlyTerm = t});
+      (part == EnergyPart::Membrane  ? gMembrane
+       : part == EnergyPart::Bending ? gBending
+                                     : gContact) += ev.gradient;
+    }
+  }
+  // −∂V/∂x: the turgor term's gradient at unit pressure.
+  const std::vector<double> pressures = model.cellPressures();
+  model.setUniformPressure(1.0);
+  for (int t = 0; t < static_cast<int>(terms.size()); ++t)
+    if (terms[t]->part() == EnergyPart::Pressure) {
+      model.evaluate(x, ev, EvalOptions{.hessian = false, .onlyTerm = t});
+      dVdx += ev.gradient;
+    }
+  model.setCellPressures(pressures);
+  const Material& mat = model.material();
+  Eigen::MatrixXd loads(n3, 3);
+  loads.col(0) = -(gMembrane + gBending + gContact) / mat.youngModulus;
+  loads.col(1) = -dVdx;
+  loads.col(2) = -(gMembrane + 3.0 * gBending + gContact) / mat.thickness;
+  return loads;
+}
+
+}  // namespace
+
+ForceSensitivity forceSensitivity(Indentation& ind) {
+  ForceSensitivity s;
+  Model& model = ind.model();
+  const Points& x = ind.state();
+  const Vec3 axis = ind.placement().axis;
+  const int n3 = static_cast<int>(x.size());
+  if (!model.probe()) return s;
+  const Probe probe = *model.probe();
+
+  // At the indented state, with the probe's centre c held: the probe's coupling ∂²W/∂x∂c (an
+  // assembly), then one factorisation of the tangent for the right-hand sides −∂g/∂θ and
+  // −∂g/∂c_j = −∂²W/∂x∂c_j (the probe moved along each axis).
+  Evaluation ev;
+  model.evaluate(x, ev, EvalOptions{.hessian = true});
+  if (ev.probeCoupling.rows() != n3) return s;
+  const Eigen::VectorXd coupling = ev.probeCoupling * axis;  // ∂F/∂x, F = a·∂W/∂c
+  Eigen::MatrixXd loads(n3, 6);
+  loads.leftCols(3) = parameterLoads(model, x);
+  loads.rightCols(3) = -ev.probeCoupling;
+  Eigen::MatrixXd u;
+  if (!ind.solver().tangentSolve(x, loads, u)) return s;
+  s.force = axis.dot(ev.probeGradient);
+  // The contact law's stiffness is κ = 1e3 E h (mechanics/terms/ContactTerm.cpp): the contact
+  // energy, and F with it, scale with E and h explicitly too.
+  const Material& mat = model.material();
+  const double explicitPart[3] = {s.force / mat.youngModulus, 0.0, s.force / mat.thickness};
+  double held[3];
+  for (int k = 0; k < 3; ++k) held[k] = explicitPart[k] + coupling.dot(u.col(k));
+  Vec3 dFdc;  // the total derivative of F with the probe's centre, the tissue in equilibrium
+  for (int j = 0; j < 3; ++j) dFdc[j] = axis.dot(ev.probeHessian.col(j)) + coupling.dot(u.col(3 + j));
+  s.dDepth = dFdc.dot(axis);
+
+  // The depth counts from first contact with the turgid state, which θ moves too. The probe
+  // comes along the line through the site's material point s (moving with the turgid state by
+  // u_s) and stops at c0 = s + t a, touching the surface at q (moving by u_q) with unit normal
+  // n_q = (c0 − q)/R: n_q·(c0 − q) = R gives n_q·(ds + dt a − u_q) = 0, so
+  // dc0 = ds + a n_q·(u_q − ds)/(n_q·a), and the force at a given depth changes by dF/dc·dc0.
+  const Points& xt = ind.turgidState();
+  const Vec3 c0 = ind.placement().contactCenter;
+  int triQ = -1;
+  const Vec3 q = nearestSurfacePoint(model, xt, c0, &triQ);
+  const int triS = ind.placement().triangle;
+  if (triQ < 0 || triS < 0 || !((c0 - q).norm() > 0)) return s;
+  const Vec3 nq = (c0 - q).normalized();
+  if (!(std::abs(nq.dot(axis)) > 1e-6)) return s;
+  model.clearProbe();
+  Eigen::MatrixXd ut;
+  const bool solved = ind.solver().tangentSolve(xt, parameterLoads(model, xt), ut);
+  model.setProbe(probe);
+  if (!solved) return s;
+  // The motion of a material point of triangle `tri` at the point p of the turgid state.
+  auto motion = [&](int tri, const Vec3& p, int k) {
+    const auto& t = model.complex().triangles[tri];
+    const Vec3 a = xt.col(t[0]), b = xt.col(t[1]), c = xt.col(t[2]);
+    const Vec3 n = (b - a).cross(c - a);
+    const double n2 = n.squaredNorm();
+    Vec3 w((c - b).cross(p - b).dot(n) / n2, (a - c).cross(p - c).dot(n) / n2, 0.0);
+    w[2] = 1.0 - w[0] - w[1];
+    Vec3 m = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) m += w[j] * ut.col(k).segment<3>(3 * t[j]);
+    return m;
+  };
+  const Vec3 site = ind.placement().site;
+  double total[3];
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 ds = motion(triS, site, k), uq = motion(triQ, q, k);
+    const Vec3 dc0 = ds + axis * (nq.dot(uq - ds) / nq.dot(axis));
+    total[k] = held[k] + dFdc.dot(dc0);
+  }
+  s.dE = total[0];
+  s.dp = total[1];
+  s.dh = total[2];
+  s.ok = std::isfinite(s.dE) && std::isfinite(s.dp) && std::isfinite(s.dh) &&
+         std::isfinite(s.dDepth);
+  return s;
+}
+
+}  // namespace tp
