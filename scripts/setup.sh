@@ -11,6 +11,8 @@ PACKAGES=(
   libeigen3-dev libsuitesparse-dev libopenblas-dev voro++-dev libcgal-dev libgmp-dev libmpfr-dev libtbb-dev
   # formats and command line
   nlohmann-json3-dev libcli11-dev
+  # fitting measured curves: Ceres Solver (Levenberg-Marquardt)
+  libceres-dev
   # GUI: Qt 6 widgets/OpenGL/SVG/print support, QCustomPlot for Qt 6, GL headers, Mesa software GL
   qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6svg6-dev libgl-dev libgl1-mesa-dri
   libqcustomplot-dev libqcustomplot2.1-qt6

@@ -1,0 +1,410 @@
+#include "experiment/Fit.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "experiment/Analysis.h"
+#include "experiment/Sensitivity.h"
+
+namespace tp {
+
+const FitValue* FitResult::find(const std::string& key) const {
+  for (const FitValue& v : values)
+    if (v.key == key) return &v;
+  return nullptr;
+}
+
+namespace {
+
+// One measured curve on its fixed mesh (chosen at the starting values, then held: a mesh that
+// changed during the search would make the objective jump).
+struct CurveModel {
+  std::shared_ptr<const CellComplex> complex;
+  Vec3 restSite = Vec3::Zero(), axis = -Vec3::UnitZ();
+  std::optional<double> pressure;
+  std::vector<double> depth, force;  // the points used, by increasing depth
+  Points turgid;                      // the last turgid state, to start the next from
+  int level = 0;
+  MeshError error;
+};
+
+// The parameters searched, in order: E, p, h (those fitted), then the offsets.
+struct Layout {
+  int E = -1, p = -1, h = -1, offset0 = -1, n = 0;
+};
+
+class Problem {
+ public:
+  Problem(const FitSettings& s, std::vector<CurveModel>& curves, const Layout& layout,
+          const Monitor& monitor)
+      : s_(s), curves_(curves), layout_(layout), monitor_(monitor) {}
+
+  int residualCount() const {
+    int m = 0;
+    for (const CurveModel& c : curves_) m += static_cast<int>(c.depth.size());
+    return m;
+  }
+
+  // The residuals F_sim − F_measured at theta and (when J is given) their Jacobian.
+  bool simulate(const double* theta, std::vector<double>& r, Eigen::MatrixXd* J) {
+    if (monitor_.cancelled()) {
+      cancelled_ = true;
+      return false;
+    }
+    ++evaluations_;
+    const double E = layout_.E >= 0 ? theta[layout_.E] : s_.start.material.youngModulus;
+    const double p = layout_.p >= 0 ? theta[layout_.p] : s_.start.pressure;
+    const double h = layout_.h >= 0 ? theta[layout_.h] : s_.start.material.thickness;
+    if (!(E > 0) || !(h > 0) || !(p >= 0)) return false;
+    r.assign(residualCount(), 0.0);
+    if (J) J->setZero(residualCount(), layout_.n);
+    int row = 0;
+    for (size_t i = 0; i < curves_.size(); ++i) {
+      CurveModel& c = curves_[i];
+      Material mat = s_.start.material;
+      mat.youngModulus = E;
+      mat.thickness = h;
+      Model model(c.complex, mat);
+      model.setUniformPressure(c.pressure.value_or(p));
+      IndentationSettings is = s_.start.indentation;
+      is.site.reset();
+      is.restSite = c.restSite;
+      is.axis = c.axis;
+      is.control = Control::Depth;
+      Indentation ind(model, is, solverOptions());
+      const SolveReport rest = ind.prepare(c.turgid.size() ? &c.turgid : nullptr);
+      if (!rest.converged) {
+        message_ = "rest state at E = " + std::to_string(E) + ", p = " + std::to_string(p) +
+                   ": " + rest.message;
+        return false;
+      }
+      c.turgid = ind.turgidState();
+      const double offset = layout_.offset0 >= 0 ? theta[layout_.offset0 + i] : 0.0;
+      for (size_t k = 0; k < c.depth.size(); ++k, ++row) {
+        const double d = c.depth[k] + offset;
+        if (monitor_.cancelled()) {
+          cancelled_ = true;
+          return false;
+        }
+        if (d <= 0) {  // before contact: no force, nothing moves it but the offset's edge
+          r[row] = -c.force[k];
+          continue;
+        }
+        const CurvePoint pt = ind.goToDepth(d);
+        if (!pt.converged) {
+          message_ = "no equilibrium at depth " + std::to_string(d) + " um: " + ind.lastMessage();
+          return false;
+        }
+        r[row] = pt.force - c.force[k];
+        if (!J) continue;
+        const ForceSensitivity sens = forceSensitivity(ind);
+        if (!sens.ok) {
+          message_ = "the tangent at depth " + std::to_string(d) + " um could not be factorised";
+          return false;
+        }
+        if (layout_.E >= 0) (*J)(row, layout_.E) = sens.dE;
+        if (layout_.p >= 0 && !c.pressure) (*J)(row, layout_.p) = sens.dp;
+        if (layout_.h >= 0) (*J)(row, layout_.h) = sens.dh;
+        if (layout_.offset0 >= 0) (*J)(row, layout_.offset0 + static_cast<int>(i)) = sens.dDepth;
+      }
+    }
+    return true;
+  }
+
+  // The equilibria to 1e-11 of the load scale: at the usual 1e-8 the probe's force, a small
+  // part of the turgor loads, is known to ~1e-5 only, which stalls the search (the costs of
+  // one point evaluated twice differ) well before the derivatives run out.
+  SolverOptions solverOptions() const {
+    SolverOptions o = s_.start.solver;
+    o.tolerance = std::min(o.tolerance, 1e-11);
+    return o;
+  }
+
+  bool cancelled() const { return cancelled_; }
+  int evaluations() const { return evaluations_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  const FitSettings& s_;
+  std::vector<CurveModel>& curves_;
+  Layout layout_;
+  const Monitor& monitor_;
+  bool cancelled_ = false;
+  int evaluations_ = 0;
+  std::string message_;
+};
+
+class Cost final : public ceres::CostFunction {
+ public:
+  Cost(Problem& problem, int n) : problem_(problem), n_(n) {
+    set_num_residuals(problem.residualCount());
+    mutable_parameter_block_sizes()->push_back(n);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    std::vector<double> r;
+    Eigen::MatrixXd J;
+    const bool withJ = jacobians && jacobians[0];
+    if (!problem_.simulate(parameters[0], r, withJ ? &J : nullptr)) return false;
+    std::copy(r.begin(), r.end(), residuals);
+    if (withJ)
+      for (int i = 0; i < J.rows(); ++i)
+        for (int j = 0; j < n_; ++j) jacobians[0][i * n_ + j] = J(i, j);
+    return true;
+  }
+
+ private:
+  Problem& problem_;
+  int n_;
+};
+
+// Up to `maxPoints` of the measured points, evenly spread by index over increasing depth.
+void choosePoints(const MeasuredCurve& m, int maxPoints, CurveModel& c) {
+  std::vector<size_t> order(m.depth.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return m.depth[a] < m.depth[b]; });
+  const size_t n = order.size(), keep = std::min<size_t>(n, std::max(2, maxPoints));
+  for (size_t k = 0; k < keep; ++k) {
+    const size_t i = order[keep == 1 ? 0 : (k * (n - 1)) / (keep - 1)];
+    if (!c.depth.empty() && m.depth[i] == c.depth.back()) continue;
+    c.depth.push_back(m.depth[i]);
+    c.force.push_back(m.force[i]);
+  }
+}
+
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings& settings,
+                    const std::vector<FitCurve>& curves, const Monitor& monitor) {
+  if (curves.empty()) throw std::invalid_argument("no measured curve to fit");
+  if (!settings.fitE && !settings.fitP && !settings.fitH && !settings.fitOffset)
+    throw std::invalid_argument("nothing to fit: choose some of E, p, h, offset");
+  bool anyFreePressure = false;
+  for (const FitCurve& c : curves) anyFreePressure |= !c.pressure.has_value();
+  if (settings.fitP && !anyFreePressure)
+    throw std::invalid_argument("p cannot be fitted: every curve holds its own turgor");
+  settings.start.validate();
+
+  // Each curve's mesh, site and axis, at the starting values.
+  std::vector<CurveModel> models(curves.size());
+  FitResult result;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    const FitCurve& fc = curves[i];
+    CurveModel& c = models[i];
+    choosePoints(fc.data, settings.maxPoints, c);
+    const double deepest = c.depth.empty() ? 0.0 : c.depth.back();
+    if (!(deepest > 0))
+      throw std::invalid_argument(fc.data.name + ": no point at a positive depth");
+    c.pressure = fc.pressure;
+    ExperimentSettings es = settings.start;
+    if (fc.site) {  // else the starting settings' site (or material point, or the top)
+      es.indentation.site = fc.site;
+      es.indentation.restSite.reset();
+    }
+    es.indentation.control = Control::Depth;
+    es.indentation.maxDepth = deepest;
+    es.indentation.steps = std::max(4, std::min(10, static_cast<int>(c.depth.size())));
+    es.indentation.unload = false;
+    if (fc.pressure) es.pressure = *fc.pressure;
+    Experiment e(tissue, es);
+    monitor.say("Choosing the mesh for " + fc.data.name + "…");
+    if (es.mesh.automatic) {
+      ExperimentResult r = e.run(monitor);
+      if (!r.complete || !r.site) throw SolveFailure(fc.data.name + ": " + r.message);
+      c.complex = r.site->complex;
+      c.level = r.site->level;
+      c.error = r.error;
+    } else {
+      const auto site = e.prepareSite(es.mesh.level, monitor);
+      c.complex = site->complex;
+      c.level = site->level;
+    }
+    c.restSite = e.restSite();
+    c.axis = e.axis();
+  }
+
+  Layout layout;
+  std::vector<double> theta;
+  std::vector<std::string> keys;
+  auto add = [&](bool on, int& slot, double value, const std::string& key) {
+    if (!on) return;
+    slot = static_cast<int>(theta.size());
+    theta.push_back(value);
+    keys.push_back(key);
+  };
+  add(settings.fitE, layout.E, settings.start.material.youngModulus, "E");
+  add(settings.fitP, layout.p, settings.start.pressure, "p");
+  add(settings.fitH, layout.h, settings.start.material.thickness, "h");
+  if (settings.fitOffset) {
+    layout.offset0 = static_cast<int>(theta.size());
+    for (size_t i = 0; i < curves.size(); ++i) {
+      theta.push_back(0.0);
+      keys.push_back("offset_" + std::to_string(i + 1));
+    }
+  }
+  layout.n = static_cast<int>(theta.size());
+
+  Problem problem(settings, models, layout, monitor);
+  const int m = problem.residualCount();
+  if (m < layout.n)
+    throw std::invalid_argument("fewer measured points (" + std::to_string(m) + ") than values to fit (" +
+                                std::to_string(layout.n) + ")");
+  std::vector<double> r0;
+  monitor.say("Simulating the curves at the starting values…");
+  if (!problem.simulate(theta.data(), r0, nullptr)) {
+    if (problem.cancelled()) throw Cancelled();
+    throw SolveFailure("at the starting values: " + problem.message());
+  }
+  auto rmsOf = [](const std::vector<double>& r) {
+    double s = 0;
+    for (double x : r) s += x * x;
+    return r.empty() ? 0.0 : std::sqrt(s / r.size());
+  };
+  result.rmsStart = rmsOf(r0);
+
+  ceres::Problem cp;
+  auto* cost = new Cost(problem, layout.n);  // owned by the problem
+  cp.AddResidualBlock(cost, nullptr, theta.data());
+  if (layout.E >= 0) cp.SetParameterLowerBound(theta.data(), layout.E, 1e-3);
+  if (layout.p >= 0) cp.SetParameterLowerBound(theta.data(), layout.p, 0.0);
+  if (layout.h >= 0) cp.SetParameterLowerBound(theta.data(), layout.h, 1e-3);
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = settings.maxIterations;
+  options.function_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-10;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  options.num_threads = 1;
+  struct Progress : ceres::IterationCallback {
+    const Monitor& monitor;
+    explicit Progress(const Monitor& m) : monitor(m) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+      monitor.say("Fit iteration " + std::to_string(s.iteration) + ": cost " + fixed(s.cost, 6));
+      return monitor.cancelled() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+    }
+  } progress(monitor);
+  options.callbacks.push_back(&progress);
+  ceres::Solver::Summary summary;
+  monitor.say("Fitting…");
+  ceres::Solve(options, &cp, &summary);
+  if (problem.cancelled() || monitor.cancelled()) throw Cancelled();
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.message = summary.BriefReport() + " (" + summary.message + ")";
+  result.converged = summary.IsSolutionUsable() && summary.termination_type == ceres::CONVERGENCE;
+
+  // The Jacobian and residuals at the fit: standard errors and correlations.
+  std::vector<double> r;
+  Eigen::MatrixXd J;
+  if (!problem.simulate(theta.data(), r, &J)) {
+    result.converged = false;
+    result.message += "; the fitted values cannot be simulated: " + problem.message();
+    return result;
+  }
+  result.evaluations = problem.evaluations();
+  result.rms = rmsOf(r);
+  const int n = layout.n;
+  Eigen::VectorXd scale(n);
+  for (int j = 0; j < n; ++j) scale[j] = J.col(j).norm() > 0 ? 1.0 / J.col(j).norm() : 1.0;
+  const Eigen::MatrixXd Js = J * scale.asDiagonal();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  const double cond = sv.size() && sv.minCoeff() > 0 ? sv.maxCoeff() / sv.minCoeff()
+                                                     : std::numeric_limits<double>::infinity();
+  double rss = 0;
+  for (double x : r) rss += x * x;
+  const double sigma2 = m > n ? rss / (m - n) : 0.0;
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::infinity());
+  if (std::isfinite(cond) && cond < 1e10) {
+    const Eigen::MatrixXd V = svd.matrixV();
+    const Eigen::VectorXd inv2 = sv.array().square().inverse();
+    cov = sigma2 * scale.asDiagonal() * V * inv2.asDiagonal() * V.transpose() *
+          scale.asDiagonal();
+  }
+  result.fittedKeys = keys;
+  result.correlation = Eigen::MatrixXd::Identity(n, n);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b)
+      if (a != b)
+        result.correlation(a, b) = std::isfinite(cov(a, b))
+                                       ? cov(a, b) / std::sqrt(cov(a, a) * cov(b, b))
+                                       : std::numeric_limits<double>::quiet_NaN();
+
+  auto value = [&](const std::string& key, const std::string& unit, int slot, double held) {
+    FitValue v;
+    v.key = key;
+    v.unit = unit;
+    v.fitted = slot >= 0;
+    v.value = slot >= 0 ? theta[slot] : held;
+    v.error = slot >= 0 ? std::sqrt(cov(slot, slot)) : 0.0;
+    result.values.push_back(v);
+  };
+  value("E", "MPa", layout.E, settings.start.material.youngModulus);
+  value("p", "MPa", layout.p, settings.start.pressure);
+  value("h", "um", layout.h, settings.start.material.thickness);
+  if (layout.offset0 >= 0)
+    for (size_t i = 0; i < curves.size(); ++i)
+      value("offset_" + std::to_string(i + 1), "um", layout.offset0 + static_cast<int>(i), 0.0);
+
+  // Can the values be told apart? A value known to no better than half of itself, or E and p
+  // correlated beyond 0.95, is not determined by these curves.
+  std::ostringstream advice;
+  for (const FitValue& v : result.values) {
+    if (!v.fitted || v.key.rfind("offset", 0) == 0) continue;
+    if (!std::isfinite(v.error) || v.error > 0.5 * std::abs(v.value)) {
+      result.identifiable = false;
+      advice << v.key << " is not determined by these curves (" << fixed(v.value, 4) << " ± "
+             << fixed(v.error, 2) << " " << v.unit << "). ";
+    }
+  }
+  if (layout.E >= 0 && layout.p >= 0) {
+    const double rho = result.correlation(layout.E, layout.p);
+    if (!(std::abs(rho) <= 0.95)) {
+      result.identifiable = false;
+      advice << "E and p cannot be told apart from these curves (correlation "
+             << fixed(rho, 3) << "): a stiffer wall and a higher turgor give nearly the same "
+             << "curve. ";
+    }
+  }
+  if (!result.identifiable)
+    advice << "To separate them: indent deeper (turgor stiffens the curve linearly, the walls' "
+              "bending and stretching add curvature), add a curve at a second site (next to an "
+              "anticlinal wall as well as in the middle of an outer wall), or add a plasmolysed "
+              "curve of the same site (--curve FILE with p held at 0), which sees E without p.";
+  result.advice = advice.str();
+
+  // The curves as used, the simulated forces at the fit, and the Hertz reading of each.
+  int row = 0;
+  for (size_t i = 0; i < models.size(); ++i) {
+    FitResult::Curve out;
+    out.depth = models[i].depth;
+    out.measured = models[i].force;
+    for (size_t k = 0; k < out.depth.size(); ++k, ++row) out.simulated.push_back(r[row] + out.measured[k]);
+    std::vector<CurvePoint> pts;
+    for (size_t k = 0; k < out.depth.size(); ++k)
+      pts.push_back(CurvePoint{out.depth[k], out.measured[k], 0, 0.0, true, false});
+    out.hertzModulus = hertzApparentModulus(pts, settings.start.indentation.probeRadius,
+                                            settings.start.material.poissonRatio);
+    out.meshLevel = models[i].level;
+    out.meshError = models[i].error;
+    result.curves.push_back(std::move(out));
+  }
+  return result;
+}
+
+}  // namespace tp
