@@ -1,10 +1,12 @@
 // tissueprobe-cli: command-line runs of the TissueProbe core.
 //   indent  one indentation curve (CSV, VTU)
+//   fit     wall modulus, turgor, thickness from measured curves (JSON report, CSV)
 //   info    size, closedness and quality of a tissue file
 //   build   make a tissue file
 // Units everywhere: µm, MPa, µN.
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <chrono>
@@ -22,11 +24,13 @@
 
 #include "experiment/Analysis.h"
 #include "experiment/Experiment.h"
+#include "experiment/Fit.h"
 #include "experiment/Indentation.h"
 #include "experiment/Stress.h"
 #include "io/AtomicFile.h"
 #include "io/Centroids.h"
 #include "io/CurveCsv.h"
+#include "io/MeasuredCurve.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
 #include "io/TissueFiles.h"
@@ -447,6 +451,228 @@ int runBuild(const BuildArgs& b) {
   return 0;
 }
 
+struct FitArgs {
+  IndentArgs model;
+  std::vector<std::string> curves, plasmolysed;
+  std::string fit = "E,p";
+  std::string depthColumn, forceColumn, depthUnit, forceUnit;
+  int maxPoints = 25, maxIterations = 30;
+  std::string report, out;
+};
+
+// "FILE" or "FILE@x,y,z" (a site of its own).
+FitCurve fitCurveArg(const std::string& arg, const MeasuredColumns& columns,
+                     std::optional<double> pressure) {
+  FitCurve c;
+  std::string path = arg;
+  const auto at = arg.rfind('@');
+  if (at != std::string::npos && at + 1 < arg.size() && !std::filesystem::exists(arg)) {
+    path = arg.substr(0, at);
+    c.site = parseVec3(arg.substr(at + 1), "--curve " + arg);
+  }
+  if (!std::filesystem::exists(path)) throw UsageError("--curve: no file '" + path + "'");
+  c.data = readMeasuredCurve(path, columns);  // std::runtime_error naming file, line, value
+  c.pressure = pressure;
+  return c;
+}
+
+nlohmann::json fitReport(const FitResult& r, const FitArgs& a, const ExperimentSettings& s,
+                         const std::vector<FitCurve>& curves) {
+  using nlohmann::json;
+  json values = json::object();
+  for (const FitValue& v : r.values) {
+    json e = {{"value", v.value}, {"unit", v.unit}, {"fitted", v.fitted}};
+    if (v.fitted) {
+      e["stderr"] = std::isfinite(v.error) ? json(v.error) : json(nullptr);
+      e["ci95"] = std::isfinite(v.error) ? json::array({v.value - 1.96 * v.error,
+                                                         v.value + 1.96 * v.error})
+                                         : json(nullptr);
+    }
+    values[v.key] = e;
+  }
+  json corr = json::array();
+  for (int i = 0; i < r.correlation.rows(); ++i) {
+    json row = json::array();
+    for (int j = 0; j < r.correlation.cols(); ++j)
+      row.push_back(std::isfinite(r.correlation(i, j)) ? json(r.correlation(i, j)) : json(nullptr));
+    corr.push_back(row);
+  }
+  json out = {{"converged", r.converged},
+              {"message", r.message},
+              {"iterations", r.iterations},
+              {"evaluations", r.evaluations},
+              {"values", values},
+              {"correlation", {{"keys", r.fittedKeys}, {"matrix", corr}}},
+              {"rms_uN", r.rms},
+              {"rms_start_uN", r.rmsStart},
+              {"identifiable", r.identifiable},
+              {"advice", r.advice},
+              {"intervals", "95 % = value +- 1.96 standard errors (normal approximation; "
+                            "sigma^2 from the residual)"}};
+  json cs = json::array();
+  for (size_t i = 0; i < r.curves.size(); ++i) {
+    const auto& c = r.curves[i];
+    json e = {{"file", curves[i].data.name},
+              {"points_used", c.depth.size()},
+              {"pressure_held_MPa", curves[i].pressure ? json(*curves[i].pressure) : json(nullptr)},
+              {"hertz_apparent_modulus_MPa", c.hertzModulus},
+              {"mesh_level", c.meshLevel}};
+    if (curves[i].site) e["site_um"] = {curves[i].site->x(), curves[i].site->y(), curves[i].site->z()};
+    e["mesh_error"] = c.meshError.estimated()
+                          ? json({{"relative", c.meshError.relative}, {"method", c.meshError.method}})
+                          : json(nullptr);
+    cs.push_back(e);
+  }
+  out["curves"] = cs;
+  out["settings"] = {{"fit", a.fit},
+                     {"start", {{"E", s.material.youngModulus}, {"p", s.pressure},
+                                {"h", s.material.thickness}}},
+                     {"nu", s.material.poissonRatio},
+                     {"bending", bendingLabel(s.material)},
+                     {"probe_radius_um", s.indentation.probeRadius},
+                     {"refine", a.model.refine}};
+  return out;
+}
+
+int runFit(const FitArgs& a) {
+  if (a.curves.empty() && a.plasmolysed.empty())
+    throw UsageError("give at least one --curve FILE (or --plasmolysed-curve FILE)");
+  const std::string meshPath = a.model.mesh.empty() ? defaultTissuePath() : a.model.mesh;
+  std::vector<std::string> inputs = {meshPath};
+  for (const auto& c : a.curves) inputs.push_back(c.substr(0, c.rfind('@')));
+  for (const auto& c : a.plasmolysed) inputs.push_back(c.substr(0, c.rfind('@')));
+  checkOutputs({a.report, a.out}, inputs);
+  FitSettings fs;
+  fs.start = experimentSettings(a.model);
+  fs.fitE = fs.fitP = fs.fitH = fs.fitOffset = false;
+  {
+    std::stringstream ss(a.fit);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      if (item == "E") fs.fitE = true;
+      else if (item == "p") fs.fitP = true;
+      else if (item == "h") fs.fitH = true;
+      else if (item == "offset") fs.fitOffset = true;
+      else
+        throw UsageError("--fit: '" + item + "' is not one of E, p, h, offset (comma-separated)");
+    }
+  }
+  if (a.maxPoints < 2) throw UsageError("--max-points: at least 2, got " + std::to_string(a.maxPoints));
+  fs.maxPoints = a.maxPoints;
+  fs.maxIterations = a.maxIterations;
+  MeasuredColumns columns{a.depthColumn, a.forceColumn, a.depthUnit, a.forceUnit};
+  std::vector<FitCurve> curves;
+  for (const auto& c : a.curves) curves.push_back(fitCurveArg(c, columns, std::nullopt));
+  for (const auto& c : a.plasmolysed) curves.push_back(fitCurveArg(c, columns, 0.0));
+  auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
+
+  Monitor monitor;
+  monitor.cancel = &interrupted;
+  const auto started = std::chrono::steady_clock::now();
+  if (!a.model.quiet)
+    monitor.stage = [&](const std::string& what) {
+      std::fprintf(stderr, "[%6.2f s] %s\n",
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                   what.c_str());
+    };
+  FitResult r;
+  {
+    InterruptScope scope;
+    try {
+      r = fitCurves(cc, fs, curves, monitor);
+    } catch (const SolveFailure& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 3;
+    } catch (const Cancelled&) {
+      std::fprintf(stderr, "interrupted: nothing written\n");
+      return kExitInterrupted;
+    }
+  }
+  if (!a.model.quiet) {
+    std::printf("# %s\n", r.message.c_str());
+    for (const FitValue& v : r.values) {
+      if (v.fitted)
+        std::printf("%-10s %12.6g %s  +- %.3g (95 %%: %.6g to %.6g)\n", v.key.c_str(), v.value,
+                    v.unit.c_str(), v.error, v.value - 1.96 * v.error, v.value + 1.96 * v.error);
+      else
+        std::printf("%-10s %12.6g %s  (held)\n", v.key.c_str(), v.value, v.unit.c_str());
+    }
+    for (int i = 0; i < r.correlation.rows(); ++i)
+      for (int j = i + 1; j < r.correlation.cols(); ++j)
+        std::printf("# correlation %s-%s %.3f\n", r.fittedKeys[i].c_str(), r.fittedKeys[j].c_str(),
+                    r.correlation(i, j));
+    std::printf("# rms residual %.4g uN (at the start %.4g uN)\n", r.rms, r.rmsStart);
+    for (size_t i = 0; i < r.curves.size(); ++i)
+      std::printf("# %s: %zu points, mesh level %d, Hertz apparent modulus %.4g MPa\n",
+                  curves[i].data.name.c_str(), r.curves[i].depth.size(), r.curves[i].meshLevel,
+                  r.curves[i].hertzModulus);
+    if (!r.advice.empty()) std::printf("# %s\n", r.advice.c_str());
+  }
+  std::vector<std::pair<std::string, std::function<void(std::ostream&)>>> outputs;
+  if (!a.report.empty())
+    outputs.emplace_back(a.report, [&](std::ostream& o) {
+      o << fitReport(r, a, fs.start, curves).dump(2) << "\n";
+    });
+  if (!a.out.empty())
+    outputs.emplace_back(a.out, [&](std::ostream& o) {
+      o << "curve,depth_um,measured_uN,simulated_uN,residual_uN\n";
+      o.precision(10);
+      for (size_t i = 0; i < r.curves.size(); ++i)
+        for (size_t k = 0; k < r.curves[i].depth.size(); ++k)
+          o << i + 1 << "," << r.curves[i].depth[k] << "," << r.curves[i].measured[k] << ","
+            << r.curves[i].simulated[k] << ","
+            << r.curves[i].simulated[k] - r.curves[i].measured[k] << "\n";
+    });
+  writeFilesAtomically(outputs);
+  if (!r.converged) {
+    std::fprintf(stderr, "error: the fit did not converge: %s\n", r.message.c_str());
+    return 3;
+  }
+  if (!r.identifiable) std::fprintf(stderr, "warning: %s\n", r.advice.c_str());
+  return 0;
+}
+
+// The tissue, wall, turgor, probe and site options shared by indent and fit.
+void addModelOptions(CLI::App* cmd, IndentArgs& a) {
+  cmd->add_option("--mesh", a.mesh, "Tissue file (PLY); default: the shipped default tissue")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--E", a.E, "Young's modulus of the walls, MPa")->capture_default_str();
+  cmd->add_option("--nu", a.nu, "Poisson ratio of the walls")->capture_default_str();
+  cmd->add_option("--thickness", a.thickness, "Wall thickness h, um")->capture_default_str();
+  cmd->add_option("--pressure", a.pressure, "Turgor pressure of every cell, MPa")
+      ->capture_default_str();
+  cmd->add_option("--bending", a.bending,
+                     "Bending model: koiter (plate energy with the walls' nu) | hinge | linear "
+                     "(the published model) | none")
+      ->check(CLI::IsMember({"koiter", "hinge", "linear", "none"}))
+      ->capture_default_str();
+  cmd->add_option("--junctions", a.junctions,
+                     "How walls meeting at a junction share rotation under koiter bending: "
+                     "hinged (they pivot; the outer surface bends as one sheet) | rigid (the "
+                     "angles between them kept)")
+      ->check(CLI::IsMember({"hinged", "rigid"}))
+      ->capture_default_str();
+  cmd->add_option("--probe-radius", a.probeRadius, "Radius of the spherical probe, um")
+      ->capture_default_str();
+  cmd->add_option("--site", a.site,
+                     "Indentation site x,y,z in um; the nearest outer-surface point is used "
+                     "(default: the top of the tissue)");
+  cmd->add_option("--axis", a.axis,
+                     "Probe direction dx,dy,dz into the tissue (default: the inward surface "
+                     "normal at the site)");
+  cmd->add_option("--refine", a.refine,
+                  "Mesh at the site: auto (refine level by level until the estimated "
+                  "discretisation error is within --mesh-tolerance) or a fixed level (0 = the "
+                  "tissue as given; level L has triangles of probe radius / 2^(L-1) under the "
+                  "probe, graded out to the tissue's own)")
+      ->capture_default_str();
+  cmd->add_option("--mesh-tolerance", a.meshTolerance,
+                  "Relative discretisation error asked of --refine auto (of the force at the "
+                  "deepest point, or the depth at the largest force)")
+      ->capture_default_str();
+  cmd->add_flag("--quiet", a.quiet, "Print nothing but errors");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -457,32 +683,7 @@ int main(int argc, char** argv) {
 
   IndentArgs ia;
   auto* indent = app.add_subcommand("indent", "Run one indentation and print the force-depth curve");
-  indent->add_option("--mesh", ia.mesh, "Tissue file (PLY); default: the shipped default tissue")
-      ->check(CLI::ExistingFile);
-  indent->add_option("--E", ia.E, "Young's modulus of the walls, MPa")->capture_default_str();
-  indent->add_option("--nu", ia.nu, "Poisson ratio of the walls")->capture_default_str();
-  indent->add_option("--thickness", ia.thickness, "Wall thickness h, um")->capture_default_str();
-  indent->add_option("--pressure", ia.pressure, "Turgor pressure of every cell, MPa")
-      ->capture_default_str();
-  indent->add_option("--bending", ia.bending,
-                     "Bending model: koiter (plate energy with the walls' nu) | hinge | linear "
-                     "(the published model) | none")
-      ->check(CLI::IsMember({"koiter", "hinge", "linear", "none"}))
-      ->capture_default_str();
-  indent->add_option("--junctions", ia.junctions,
-                     "How walls meeting at a junction share rotation under koiter bending: "
-                     "hinged (they pivot; the outer surface bends as one sheet) | rigid (the "
-                     "angles between them kept)")
-      ->check(CLI::IsMember({"hinged", "rigid"}))
-      ->capture_default_str();
-  indent->add_option("--probe-radius", ia.probeRadius, "Radius of the spherical probe, um")
-      ->capture_default_str();
-  indent->add_option("--site", ia.site,
-                     "Indentation site x,y,z in um; the nearest outer-surface point is used "
-                     "(default: the top of the tissue)");
-  indent->add_option("--axis", ia.axis,
-                     "Probe direction dx,dy,dz into the tissue (default: the inward surface "
-                     "normal at the site)");
+  addModelOptions(indent, ia);
   auto* depthOpt = indent->add_option("--depth", ia.depth,
                                       "Displacement control: final depth from first contact, um "
                                       "(default 0.5)");
@@ -493,16 +694,6 @@ int main(int argc, char** argv) {
   indent->add_flag("--no-predictor", ia.noPredictor,
                    "Start each step from the last equilibrium with the probe moved (as the "
                    "published method did) instead of extrapolating from the last three");
-  indent->add_option("--refine", ia.refine,
-                     "Mesh at the site: auto (refine level by level until the estimated "
-                     "discretisation error is within --mesh-tolerance) or a fixed level (0 = the "
-                     "tissue as given; level L has triangles of probe radius / 2^(L-1) under the "
-                     "probe, graded out to the tissue's own)")
-      ->capture_default_str();
-  indent->add_option("--mesh-tolerance", ia.meshTolerance,
-                     "Relative discretisation error asked of --refine auto (of the force at the "
-                     "deepest point, or the depth at the largest force)")
-      ->capture_default_str();
   indent->add_option("--csv", ia.csv, "Write the curve as CSV (depth_um,force_uN,iterations,"
                                       "residual,converged)");
   indent->add_option("--vtu", ia.vtu,
@@ -516,10 +707,46 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"newton", "implicit-euler-cg"}))
       ->capture_default_str();
   indent->add_flag("--verbose", ia.verbose, "Print every Newton iteration");
-  indent->add_flag("--quiet", ia.quiet, "Print nothing but errors");
   indent->add_flag("--progress", ia.progress,
                    "A line per point of the curve on stderr also when it is not a terminal "
                    "(on a terminal one progress line is always rewritten in place)");
+
+  FitArgs fa;
+  auto* fit = app.add_subcommand(
+      "fit", "Fit the walls' Young modulus, the turgor and the wall thickness to measured "
+             "force-indentation curves at a site (Levenberg-Marquardt, exact derivatives)");
+  addModelOptions(fit, fa.model);
+  fit->add_option("--curve", fa.curves,
+                  "A measured curve (CSV/TSV table of indentation and force; FILE@x,y,z gives it "
+                  "a site of its own); repeat for several")
+      ->take_all();
+  fit->add_option("--plasmolysed-curve", fa.plasmolysed,
+                  "A measured curve of the plasmolysed tissue (turgor held at 0)")
+      ->take_all();
+  fit->add_option("--fit", fa.fit, "What to fit: a comma-separated subset of E, p, h, offset "
+                                   "(a contact-point offset per curve); the other values are "
+                                   "held at --E, --pressure, --thickness")
+      ->capture_default_str();
+  fit->add_option("--depth-column", fa.depthColumn,
+                  "The indentation column: header name or 1-based position (default: the first "
+                  "named depth/indentation/delta/separation)");
+  fit->add_option("--force-column", fa.forceColumn,
+                  "The force column: header name or position (default: the first named force/F)");
+  fit->add_option("--depth-unit", fa.depthUnit, "m, mm, um or nm (default: from the header)");
+  fit->add_option("--force-unit", fa.forceUnit, "N, mN, uN, nN or pN (default: from the header)");
+  fit->add_option("--max-points", fa.maxPoints, "Measured points used per curve")
+      ->capture_default_str();
+  fit->add_option("--max-iterations", fa.maxIterations, "Levenberg-Marquardt iterations at most")
+      ->capture_default_str();
+  fit->add_option("--tolerance", fa.model.tolerance,
+                  "Newton tolerance of the simulations (at most 1e-11 is used)")
+      ->capture_default_str();
+  fit->add_option("--report", fa.report,
+                  "Write a JSON report: values under their option names (E, p, h) with standard "
+                  "errors and 95 % intervals, correlations, residual, identifiability");
+  fit->add_option("--out", fa.out,
+                  "Write the curves as used, simulated at the fit, as CSV "
+                  "(curve,depth_um,measured_uN,simulated_uN,residual_uN)");
 
   std::string infoPath;
   auto* info = app.add_subcommand("info", "Cells, walls, vertices, triangles, closedness, volume "
@@ -564,6 +791,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*indent) return runIndent(ia);
+    if (*fit) return runFit(fa);
     if (*info) return runInfo(infoPath);
     if (*build) return runBuild(ba);
   } catch (const UsageError& e) {

@@ -25,9 +25,10 @@ namespace {
 struct CurveModel {
   std::shared_ptr<const CellComplex> complex;
   Vec3 restSite = Vec3::Zero(), axis = -Vec3::UnitZ();
+  std::optional<Vec3> target;  // a site given in space: the nearest surface point at each θ
   std::optional<double> pressure;
   std::vector<double> depth, force;  // the points used, by increasing depth
-  Points turgid;                      // the last turgid state, to start the next from
+  Points turgid;                     // the last turgid state, to start the next from
   int level = 0;
   MeshError error;
 };
@@ -71,15 +72,22 @@ class Problem {
       Model model(c.complex, mat);
       model.setUniformPressure(c.pressure.value_or(p));
       IndentationSettings is = s_.start.indentation;
-      is.site.reset();
-      is.restSite = c.restSite;
+      // The site as `indent` places it: the surface point nearest to a point given in space
+      // (at every θ), or a material point (the top, or the settings' rest site).
+      if (c.target) {
+        is.site = c.target;
+        is.restSite.reset();
+      } else {
+        is.site.reset();
+        is.restSite = c.restSite;
+      }
       is.axis = c.axis;
       is.control = Control::Depth;
       Indentation ind(model, is, solverOptions());
       const SolveReport rest = ind.prepare(c.turgid.size() ? &c.turgid : nullptr);
       if (!rest.converged) {
-        message_ = "rest state at E = " + std::to_string(E) + ", p = " + std::to_string(p) +
-                   ": " + rest.message;
+        message_ = "rest state at E = " + std::to_string(E) + ", p = " + std::to_string(p) + ": " +
+                   rest.message;
         return false;
       }
       c.turgid = ind.turgidState();
@@ -233,6 +241,7 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
     }
     c.restSite = e.restSite();
     c.axis = e.axis();
+    c.target = es.indentation.restSite ? std::nullopt : es.indentation.site;
   }
 
   Layout layout;
@@ -259,8 +268,8 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
   Problem problem(settings, models, layout, monitor);
   const int m = problem.residualCount();
   if (m < layout.n)
-    throw std::invalid_argument("fewer measured points (" + std::to_string(m) + ") than values to fit (" +
-                                std::to_string(layout.n) + ")");
+    throw std::invalid_argument("fewer measured points (" + std::to_string(m) +
+                                ") than values to fit (" + std::to_string(layout.n) + ")");
   std::vector<double> r0;
   monitor.say("Simulating the curves at the starting values…");
   if (!problem.simulate(theta.data(), r0, nullptr)) {
@@ -333,8 +342,7 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
   if (std::isfinite(cond) && cond < 1e10) {
     const Eigen::MatrixXd V = svd.matrixV();
     const Eigen::VectorXd inv2 = sv.array().square().inverse();
-    cov = sigma2 * scale.asDiagonal() * V * inv2.asDiagonal() * V.transpose() *
-          scale.asDiagonal();
+    cov = sigma2 * scale.asDiagonal() * V * inv2.asDiagonal() * V.transpose() * scale.asDiagonal();
   }
   result.fittedKeys = keys;
   result.correlation = Eigen::MatrixXd::Identity(n, n);
@@ -376,8 +384,8 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
     const double rho = result.correlation(layout.E, layout.p);
     if (!(std::abs(rho) <= 0.95)) {
       result.identifiable = false;
-      advice << "E and p cannot be told apart from these curves (correlation "
-             << fixed(rho, 3) << "): a stiffer wall and a higher turgor give nearly the same "
+      advice << "E and p cannot be told apart from these curves (correlation " << fixed(rho, 3)
+             << "): a stiffer wall and a higher turgor give nearly the same "
              << "curve. ";
     }
   }
@@ -394,7 +402,8 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
     FitResult::Curve out;
     out.depth = models[i].depth;
     out.measured = models[i].force;
-    for (size_t k = 0; k < out.depth.size(); ++k, ++row) out.simulated.push_back(r[row] + out.measured[k]);
+    for (size_t k = 0; k < out.depth.size(); ++k, ++row)
+      out.simulated.push_back(r[row] + out.measured[k]);
     std::vector<CurvePoint> pts;
     for (size_t k = 0; k < out.depth.size(); ++k)
       pts.push_back(CurvePoint{out.depth[k], out.measured[k], 0, 0.0, true, false});

@@ -31,36 +31,36 @@ struct FitSettings {
   // fit: as given, else the inward normal at the site in the starting values' turgid state.
   ExperimentSettings start;
   bool fitE = true, fitP = true, fitH = false;
-  bool fitOffset = false;    // a contact-point offset per curve (µm, added to the model's depth)
+  bool fitOffset = false;  // a contact-point offset per curve (µm, added to the model's depth)
   int maxIterations = 30;
-  int maxPoints = 25;        // measured points used per curve, evenly spread over its depths
+  int maxPoints = 25;  // measured points used per curve, evenly spread over its depths
 };
 
 struct FitValue {
-  std::string key;     // "E", "p", "h", "offset_1", ...
-  std::string unit;    // "MPa", "um"
+  std::string key;   // "E", "p", "h", "offset_1", ...
+  std::string unit;  // "MPa", "um"
   double value = 0;
-  double error = 0;    // standard error (1 sigma); 0 when held
+  double error = 0;  // standard error (1 sigma); 0 when held
   bool fitted = false;
 };
 
 struct FitResult {
   bool converged = false;
-  std::string message;   // Ceres' summary line, or why it failed
+  std::string message;  // Ceres' summary line, or why it failed
   int iterations = 0;
-  int evaluations = 0;   // simulations of every curve
-  std::vector<FitValue> values;           // E, p, h, then one offset per curve
-  std::vector<std::string> fittedKeys;    // the rows and columns of `correlation`
+  int evaluations = 0;                  // simulations of every curve
+  std::vector<FitValue> values;         // E, p, h, then one offset per curve
+  std::vector<std::string> fittedKeys;  // the rows and columns of `correlation`
   Eigen::MatrixXd correlation;
-  double rms = 0;                         // µN, root mean square residual at the fit
-  double rmsStart = 0;                    // at the starting values
-  bool identifiable = true;               // every fitted value determined (see advice)
-  std::string advice;                     // when not: why, and what would separate them
+  double rms = 0;            // µN, root mean square residual at the fit
+  double rmsStart = 0;       // at the starting values
+  bool identifiable = true;  // every fitted value determined (see advice)
+  std::string advice;        // when not: why, and what would separate them
   struct Curve {
     std::vector<double> depth, measured, simulated;  // the points used (µm, µN, µN)
     double hertzModulus = 0;  // the measured curve's Hertz apparent modulus (MPa)
     int meshLevel = 0;
-    MeshError meshError;      // of the simulated end force at the starting values
+    MeshError meshError;  // of the simulated end force at the starting values
   };
   std::vector<Curve> curves;
   const FitValue* find(const std::string& key) const;

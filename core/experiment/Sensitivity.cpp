@@ -71,7 +71,8 @@ ForceSensitivity forceSensitivity(Indentation& ind) {
   double held[3];
   for (int k = 0; k < 3; ++k) held[k] = explicitPart[k] + coupling.dot(u.col(k));
   Vec3 dFdc;  // the total derivative of F with the probe's centre, the tissue in equilibrium
-  for (int j = 0; j < 3; ++j) dFdc[j] = axis.dot(ev.probeHessian.col(j)) + coupling.dot(u.col(3 + j));
+  for (int j = 0; j < 3; ++j)
+    dFdc[j] = axis.dot(ev.probeHessian.col(j)) + coupling.dot(u.col(3 + j));
   s.dDepth = dFdc.dot(axis);
 
   // The depth counts from first contact with the turgid state, which θ moves too. The probe
@@ -105,17 +106,34 @@ ForceSensitivity forceSensitivity(Indentation& ind) {
     return m;
   };
   const Vec3 site = ind.placement().site;
+  // A site given as a material point moves with it; one given as a point in space is the
+  // surface point nearest to it, which moves along the surface normal only (to first order).
+  // Nearest to the target T: T − s = D n, so n·ds = n·u_s and the point slides by −D dn (the
+  // triangle's normal turning with its vertices' motion), to first order.
+  const bool material = ind.settings().restSite.has_value();
+  const auto& ts = model.complex().triangles[triS];
+  const Vec3 e1 = xt.col(ts[1]) - xt.col(ts[0]), e2 = xt.col(ts[2]) - xt.col(ts[0]);
+  const Vec3 area2 = e1.cross(e2);
+  const Vec3 ns = area2.normalized();
+  const double D = material || !ind.settings().site ? 0.0 : (*ind.settings().site - site).dot(ns);
   double total[3];
   for (int k = 0; k < 3; ++k) {
-    const Vec3 ds = motion(triS, site, k), uq = motion(triQ, q, k);
+    const Vec3 us = motion(triS, site, k), uq = motion(triQ, q, k);
+    Vec3 ds = us;
+    if (!material) {
+      auto v = [&](int j) { return Vec3(ut.col(k).segment<3>(3 * ts[j])); };
+      const Vec3 dArea = (v(1) - v(0)).cross(e2) + e1.cross(v(2) - v(0));
+      const Vec3 dn = (dArea - ns * ns.dot(dArea)) / area2.norm();
+      ds = ns * ns.dot(us) - D * dn;
+    }
     const Vec3 dc0 = ds + axis * (nq.dot(uq - ds) / nq.dot(axis));
     total[k] = held[k] + dFdc.dot(dc0);
   }
   s.dE = total[0];
   s.dp = total[1];
   s.dh = total[2];
-  s.ok = std::isfinite(s.dE) && std::isfinite(s.dp) && std::isfinite(s.dh) &&
-         std::isfinite(s.dDepth);
+  s.ok =
+      std::isfinite(s.dE) && std::isfinite(s.dp) && std::isfinite(s.dh) && std::isfinite(s.dDepth);
   return s;
 }
 

@@ -13,11 +13,11 @@
 // E·h³ times a function of the curvatures, the turgor term −p·V: so ∂g/∂E = (g_membrane +
 // g_bending)/E, ∂g/∂h = g_membrane/h + 3 g_bending/h, ∂g/∂p = −∂V/∂x. The contact law's
 // stiffness κ = 1e3 E h (a numerical penalty scaled with the walls) adds g_contact/E and
-// g_contact/h, and the explicit parts F/E and F/h, as it must for the model's own F(θ). Own unknowns of a term
-// (Koiter's edge slopes) sit at their optimum, where their gradient is zero for every E, h: they
-// take a zero right-hand side. The depth counts from first contact with the turgid state, which
-// θ moves as well: that shift (the turgid state's response at the touching point, along the
-// axis) times the tangent stiffness is part of dF/dθ at a given depth, as a fit needs it.
+// g_contact/h, and the explicit parts F/E and F/h, as it must for the model's own F(θ). Own
+// unknowns of a term (Koiter's edge slopes) sit at their optimum, where their gradient is zero for
+// every E, h: they take a zero right-hand side. The depth counts from first contact with the turgid
+// state, which θ moves as well: that shift (the turgid state's response at the touching point,
+// along the axis) times the tangent stiffness is part of dF/dθ at a given depth, as a fit needs it.
 
 #include "experiment/Indentation.h"
 
@@ -25,16 +25,18 @@ namespace tp {
 
 struct ForceSensitivity {
   bool ok = false;
-  double force = 0;  // µN, at the state
-  double dE = 0;     // ∂F/∂E, µN/MPa
-  double dp = 0;     // ∂F/∂p (the uniform turgor), µN/MPa
-  double dh = 0;     // ∂F/∂h, µN/µm
-  double dDepth = 0; // ∂F/∂depth: the tangent stiffness, µN/µm
+  double force = 0;   // µN, at the state
+  double dE = 0;      // ∂F/∂E, µN/MPa
+  double dp = 0;      // ∂F/∂p (the uniform turgor), µN/MPa
+  double dh = 0;      // ∂F/∂h, µN/µm
+  double dDepth = 0;  // ∂F/∂depth: the tangent stiffness, µN/µm
 };
 
 /// The sensitivities of the force at the indentation's current depth (axis held; the contact
-/// point follows θ). The model's pressures must be uniform (the turgor p of every cell). Two
-/// factorisations: the tangent at the state and at the turgid state.
+/// point follows θ: the site is the material point `restSite` when the settings give one, else
+/// the surface point nearest to `site`, as Indentation places it). The model's pressures must be
+/// uniform (the turgor p of every cell). Two factorisations: the tangent at the state and at the
+/// turgid state.
 ForceSensitivity forceSensitivity(Indentation& indentation);
 
 }  // namespace tp

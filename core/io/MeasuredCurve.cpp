@@ -158,7 +158,8 @@ MeasuredCurve parseMeasuredCurve(const std::string& text, const std::string& nam
   };
   const int dc = find(spec.depth, {"depth", "indentation", "delta", "separation"}, 0, "depth");
   const int fc = find(spec.force, {"force", "f"}, dc == 1 ? 0 : 1, "force");
-  if (dc == fc) fail("the depth and force columns are the same (column " + std::to_string(dc + 1) + ")");
+  if (dc == fc)
+    fail("the depth and force columns are the same (column " + std::to_string(dc + 1) + ")");
 
   auto scale = [&](const std::string& given, int column, bool length) {
     const std::string unit = !given.empty() ? given : hasHeader ? unitOf(header[column]) : "";

@@ -30,7 +30,9 @@ std::string str(Int v) {
   return std::to_string(v);
 }
 
-std::string str(double v) { return ply::numberText(v); }
+std::string str(double v) {
+  return ply::numberText(v);
+}
 
 // The faces as read, before they become a CellComplex.
 struct RawFaces {
@@ -142,8 +144,7 @@ void TissueReader::findColumns(PlyInfo& info) {
 
   int indices = fe.find("vertex_indices");
   if (indices < 0) indices = fe.find("vertex_index");
-  if (indices < 0)
-    fail("element 'face' has no list property 'vertex_indices' (or 'vertex_index')");
+  if (indices < 0) fail("element 'face' has no list property 'vertex_indices' (or 'vertex_index')");
   fc_.indices = use(fe, indices, true);
   int cell = fe.find("cell");
   info.cellProperty = "cell";
@@ -167,12 +168,14 @@ void TissueReader::findColumns(PlyInfo& info) {
   hasWall_ = fc_.wall >= 0;
 
   const std::vector<char> vw = wanted(vertexElement_, {vc_.x, vc_.y, vc_.z, vc_.fixed});
-  const std::vector<char> fw = wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall});
+  const std::vector<char> fw =
+      wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall});
   table_.checkReadable(vertexElement_, vw);
   table_.checkReadable(faceElement_, fw);
   for (const auto& [e, w] : {std::pair{vertexElement_, vw}, std::pair{faceElement_, fw}})
     for (std::size_t k = 0; k < w.size(); ++k)
-      if (!w[k]) info.ignoredProperties.push_back(elements[e].name + "." + elements[e].properties[k].name);
+      if (!w[k])
+        info.ignoredProperties.push_back(elements[e].name + "." + elements[e].properties[k].name);
   for (int i = 0; i < static_cast<int>(elements.size()); ++i)
     if (i != vertexElement_ && i != faceElement_ && i != volumeElement_)
       info.ignoredElements.push_back(elements[i].name);
@@ -195,8 +198,9 @@ void TissueReader::findVolumes(PlyInfo& info) {
   if (faces < 0) faces = e.find("face_indices");
   const int label = e.find("label");
   if (faces < 0 || label < 0 || !e.properties[faces].isList || e.properties[label].isList) {
-    info.notes.push_back("element 'volume' has no list 'face_index' and integer 'label': "
-                         "not used for cell labels");
+    info.notes.push_back(
+        "element 'volume' has no list 'face_index' and integer 'label': "
+        "not used for cell labels");
     return;
   }
   // Every value up to the last one used must be readable (in binary, every value).
@@ -205,8 +209,8 @@ void TissueReader::findVolumes(PlyInfo& info) {
                        : static_cast<int>(e.properties.size()) - 1;
   for (int k = 0; k <= last; ++k)
     if (!e.properties[k].knownType()) {
-      info.notes.push_back("element 'volume': property '" + e.properties[k].name +
-                           "' has type " + quoted(e.properties[k].typeText) +
+      info.notes.push_back("element 'volume': property '" + e.properties[k].name + "' has type " +
+                           quoted(e.properties[k].typeText) +
                            ", not a PLY type, so the cells' faces cannot be read");
       return;
     }
@@ -282,27 +286,28 @@ void TissueReader::readVertices() {
 void TissueReader::readFaces() {
   std::vector<int> sorted;
   auto label = [](const ply::Instance& in, int k) { return k >= 0 ? in.values[k] : -1.0; };
-  table_.read(
-      faceElement_, wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall}),
-      [&](std::uint64_t, const ply::Instance& in) {
-        const std::vector<double>& list = in.lists[fc_.indices];
-        const std::size_t n = list.size();
-        if (n < 3) table_.failAt("a face with " + str(n) + " vertices (at least 3 are needed)");
-        for (double v : list)
-          if (!(v >= 0 && v < vertexCount_ && v == std::floor(v)))
-            table_.failAt("vertex index " + str(v) + " out of range (the file has " +
-                          str(vertexCount_) + " vertices, 0.." + str(vertexCount_ - 1) + ")");
-        sorted.assign(list.begin(), list.end());
-        std::sort(sorted.begin(), sorted.end());
-        const auto rep = std::adjacent_find(sorted.begin(), sorted.end());
-        if (rep != sorted.end()) table_.failAt("the face repeats vertex " + str(*rep));
-        faces_.verts.insert(faces_.verts.end(), list.begin(), list.end());
-        faces_.start.push_back(faces_.verts.size());
-        faces_.cell.push_back(integral(label(in, fc_.cell), "cell label"));
-        faces_.neighbor.push_back(integral(label(in, fc_.neighbor), "neighbor label"));
-        faces_.wall.push_back(integral(label(in, fc_.wall), "wall id"));
-        faces_.line.push_back(table_.line());
-      });
+  table_.read(faceElement_, wanted(faceElement_, {fc_.indices, fc_.cell, fc_.neighbor, fc_.wall}),
+              [&](std::uint64_t, const ply::Instance& in) {
+                const std::vector<double>& list = in.lists[fc_.indices];
+                const std::size_t n = list.size();
+                if (n < 3)
+                  table_.failAt("a face with " + str(n) + " vertices (at least 3 are needed)");
+                for (double v : list)
+                  if (!(v >= 0 && v < vertexCount_ && v == std::floor(v)))
+                    table_.failAt("vertex index " + str(v) + " out of range (the file has " +
+                                  str(vertexCount_) + " vertices, 0.." + str(vertexCount_ - 1) +
+                                  ")");
+                sorted.assign(list.begin(), list.end());
+                std::sort(sorted.begin(), sorted.end());
+                const auto rep = std::adjacent_find(sorted.begin(), sorted.end());
+                if (rep != sorted.end()) table_.failAt("the face repeats vertex " + str(*rep));
+                faces_.verts.insert(faces_.verts.end(), list.begin(), list.end());
+                faces_.start.push_back(faces_.verts.size());
+                faces_.cell.push_back(integral(label(in, fc_.cell), "cell label"));
+                faces_.neighbor.push_back(integral(label(in, fc_.neighbor), "neighbor label"));
+                faces_.wall.push_back(integral(label(in, fc_.wall), "wall id"));
+                faces_.line.push_back(table_.line());
+              });
 }
 
 // One cell per instance: its label and the indices of its faces.

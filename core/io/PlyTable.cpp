@@ -137,7 +137,9 @@ std::string quoted(std::string_view s) {
   return out + "'";
 }
 
-std::string numberText(double v) { return str(v); }
+std::string numberText(double v) {
+  return str(v);
+}
 
 bool Element::allKnown() const {
   return std::all_of(properties.begin(), properties.end(),
@@ -164,9 +166,13 @@ int TableReader::findElement(std::string_view name) const {
   return -1;
 }
 
-void TableReader::fail(const std::string& msg) const { throw PlyError(name_ + ": " + msg); }
+void TableReader::fail(const std::string& msg) const {
+  throw PlyError(name_ + ": " + msg);
+}
 
-void TableReader::failAt(const std::string& msg) const { fail(where() + ": " + msg); }
+void TableReader::failAt(const std::string& msg) const {
+  fail(where() + ": " + msg);
+}
 
 // Location of the current element instance: the line (ASCII) or element and index (binary).
 std::string TableReader::where() const {
@@ -267,10 +273,10 @@ void TableReader::checkReadable(int e, const std::vector<char>& wanted) const {
     }
     if (firstUnknown >= 0 && wanted[k])
       fail("property '" + p.name + "' of element '" + el.name + "' cannot be read: " +
-           (k == firstUnknown ? "its type " + quoted(p.typeText) + " is not a PLY type"
-                              : "it follows property '" + el.properties[firstUnknown].name +
-                                    "' of unknown type " +
-                                    quoted(el.properties[firstUnknown].typeText)));
+           (k == firstUnknown
+                ? "its type " + quoted(p.typeText) + " is not a PLY type"
+                : "it follows property '" + el.properties[firstUnknown].name +
+                      "' of unknown type " + quoted(el.properties[firstUnknown].typeText)));
   }
 }
 
@@ -283,8 +289,7 @@ bool TableReader::skippable(int e) const {
 
 std::uint64_t TableReader::trailingBytes() const {
   if (pos_ >= data_.size()) return 0;
-  if (format_ == Format::Ascii &&
-      data_.find_first_not_of(" \t\r\n\v\f", pos_) == std::string::npos)
+  if (format_ == Format::Ascii && data_.find_first_not_of(" \t\r\n\v\f", pos_) == std::string::npos)
     return 0;
   return data_.size() - pos_;
 }
@@ -296,8 +301,8 @@ void TableReader::failTruncated() const {
 
 void TableReader::enter(int e) {
   if (e != next_)
-    throw std::logic_error("PLY elements must be read in file order: element " +
-                           std::to_string(e) + " asked for, " + std::to_string(next_) + " next");
+    throw std::logic_error("PLY elements must be read in file order: element " + std::to_string(e) +
+                           " asked for, " + std::to_string(next_) + " next");
   ++next_;
   elem_ = &elements_[e];
   index_ = 0;
@@ -366,8 +371,7 @@ double TableReader::value(const Property& p, Scalar t, bool needed) {
     return needed ? decode(t, b) : 0.0;
   }
   if (token_ >= tokens_.size())
-    failAt("too few values: property '" + p.name + "' of element '" + elem_->name +
-           "' is missing");
+    failAt("too few values: property '" + p.name + "' of element '" + elem_->name + "' is missing");
   const std::string_view tok = tokens_[token_++];
   if (!needed) return 0.0;
   if (isInteger(t)) {
@@ -382,8 +386,8 @@ double TableReader::value(const Property& p, Scalar t, bool needed) {
   }
   double v = 0;
   if (!parseReal(tok, v))
-    failAt(quoted(tok) + " is not a number (property '" + p.name + "' of element '" +
-           elem_->name + "')");
+    failAt(quoted(tok) + " is not a number (property '" + p.name + "' of element '" + elem_->name +
+           "')");
   return v;
 }
 

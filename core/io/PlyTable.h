@@ -22,7 +22,17 @@ class PlyError : public std::runtime_error {
 
 namespace ply {
 
-enum class Scalar : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64, Unknown };
+enum class Scalar : std::uint8_t {
+  Int8,
+  UInt8,
+  Int16,
+  UInt16,
+  Int32,
+  UInt32,
+  Float32,
+  Float64,
+  Unknown
+};
 
 struct Property {
   std::string name;

@@ -64,7 +64,7 @@ TEST(Fit, ATurgidCurveAloneCannotTellModulusFromTurgorAndSaysSo) {
   const FitResult r = fitCurves(tissue(), fs, {FitCurve{synthetic(60, 0.3), {}, {}}});
   std::printf("  %s\n  E = %.6g, p = %.6g, corr %.4f\n  %s\n", r.message.c_str(),
               r.find("E")->value, r.find("p")->value, r.correlation(0, 1), r.advice.c_str());
-  EXPECT_LT(r.rms, 1e-4 * r.rmsStart);  // it fits the curve...
+  EXPECT_LT(r.rms, 1e-4 * r.rmsStart);             // it fits the curve...
   EXPECT_GT(std::abs(r.correlation(0, 1)), 0.95);  // ...but not the values apart
   EXPECT_FALSE(r.identifiable);
   EXPECT_NE(r.advice.find("E and p cannot be told apart"), std::string::npos);
@@ -75,12 +75,12 @@ TEST(Fit, TurgidAndPlasmolysedCurvesTogetherRecoverModulusAndTurgor) {
   FitSettings fs;
   fs.start = settings(100, 0.8);  // far from the truth (60, 0.3)
   const FitResult r = fitCurves(
-      tissue(), fs,
-      {FitCurve{synthetic(60, 0.3), {}, {}}, FitCurve{synthetic(60, 0.0), {}, 0.0}});
-  std::printf("  %s\n  E = %.8g +- %.2g MPa, p = %.8g +- %.2g MPa, corr %.3f, rms %.3g uN (start "
-              "%.3g), %d evaluations\n",
-              r.message.c_str(), r.find("E")->value, r.find("E")->error, r.find("p")->value,
-              r.find("p")->error, r.correlation(0, 1), r.rms, r.rmsStart, r.evaluations);
+      tissue(), fs, {FitCurve{synthetic(60, 0.3), {}, {}}, FitCurve{synthetic(60, 0.0), {}, 0.0}});
+  std::printf(
+      "  %s\n  E = %.8g +- %.2g MPa, p = %.8g +- %.2g MPa, corr %.3f, rms %.3g uN (start "
+      "%.3g), %d evaluations\n",
+      r.message.c_str(), r.find("E")->value, r.find("E")->error, r.find("p")->value,
+      r.find("p")->error, r.correlation(0, 1), r.rms, r.rmsStart, r.evaluations);
   ASSERT_TRUE(r.converged) << r.message;
   EXPECT_NEAR(r.find("E")->value, 60.0, 60.0 * 1e-5);
   EXPECT_NEAR(r.find("p")->value, 0.3, 0.3 * 1e-5);
@@ -91,7 +91,7 @@ TEST(Fit, TurgidAndPlasmolysedCurvesTogetherRecoverModulusAndTurgor) {
   EXPECT_LT(r.rms, 1e-6 * r.rmsStart);
   EXPECT_GT(r.rmsStart, 0.1);  // the start was far off
   ASSERT_EQ(r.curves.size(), 2u);
-  EXPECT_EQ(r.curves[0].depth.size(), 9u);  // depth 0 and the eight steps
+  EXPECT_EQ(r.curves[0].depth.size(), 9u);                        // depth 0 and the eight steps
   EXPECT_GT(r.curves[0].hertzModulus, r.curves[1].hertzModulus);  // turgor stiffens
   EXPECT_LT(std::abs(r.correlation(0, 1)), 0.95);
 }

@@ -16,13 +16,17 @@ namespace {
 struct Params {
   double E = 50, p = 0.2, h = 0.2;
   BendingModel bending = BendingModel::Koiter;
+  bool materialSite = true;
 };
 
-IndentationSettings settings() {
+IndentationSettings settings(bool materialSite) {
   IndentationSettings s;
   s.probeRadius = 1.0;
-  s.restSite = Vec3(7.9, 7.3, 10.0);  // a material point of the top wall, off its diagonals
-  s.axis = Vec3(0, 0, -1);             // held, as an AFM's
+  if (materialSite)
+    s.restSite = Vec3(7.9, 7.3, 10.0);  // a material point of the top wall, off its diagonals
+  else
+    s.site = Vec3(7.9, 7.3, 10.6);  // a point in space: the surface point nearest to it
+  s.axis = Vec3(0, 0, -1);          // held, as an AFM's
   s.maxDepth = 0.3;
   s.steps = 3;
   return s;
@@ -48,7 +52,7 @@ double forceAt(const Params& q, double depth, ForceSensitivity* sens = nullptr) 
   model.setUniformPressure(q.p);
   SolverOptions so;
   so.tolerance = 1e-11;
-  Indentation ind(model, settings(), so);
+  Indentation ind(model, settings(q.materialSite), so);
   const SolveReport rest = ind.prepare();
   EXPECT_TRUE(rest.converged) << rest.message;
   CurvePoint pt;
@@ -60,10 +64,11 @@ double forceAt(const Params& q, double depth, ForceSensitivity* sens = nullptr) 
   return pt.force;
 }
 
-void check(BendingModel bending, double pressure = 0.2) {
+void check(BendingModel bending, double pressure = 0.2, bool materialSite = true) {
   Params q;
   q.bending = bending;
   q.p = pressure;
+  q.materialSite = materialSite;
   ForceSensitivity s;
   const double F = forceAt(q, 0.3, &s);
   ASSERT_TRUE(s.ok);
@@ -80,9 +85,10 @@ void check(BendingModel bending, double pressure = 0.2) {
   const double fdP = central([](Params& p, double v) { p.p = v; }, q.p, 1e-3);
   const double fdH = central([](Params& p, double v) { p.h = v; }, q.h, 1e-3);
   const double fdD = (forceAt(q, 0.3 + 1e-4) - forceAt(q, 0.3 - 1e-4)) / 2e-4;
-  std::printf("  F = %.6g uN; dF/dE %.6g (FD %.6g), dF/dp %.6g (FD %.6g), dF/dh %.6g (FD %.6g), "
-              "dF/dd %.6g (FD %.6g)\n",
-              F, s.dE, fdE, s.dp, fdP, s.dh, fdH, s.dDepth, fdD);
+  std::printf(
+      "  F = %.6g uN; dF/dE %.6g (FD %.6g), dF/dp %.6g (FD %.6g), dF/dh %.6g (FD %.6g), "
+      "dF/dd %.6g (FD %.6g)\n",
+      F, s.dE, fdE, s.dp, fdP, s.dh, fdH, s.dDepth, fdD);
   // Each derivative matters (F's logarithmic derivative in each parameter is above 0.05), so a
   // relative agreement of 1e-4 is a real check; without the first-contact shift dF/dp was 4 %
   // off, without the contact law's scaling with E h dF/dE and dF/dh 2.4 %.
@@ -99,8 +105,15 @@ void check(BendingModel bending, double pressure = 0.2) {
 
 }  // namespace
 
-TEST(ForceSensitivity, KoiterMatchesFiniteDifferencesOfWholeEquilibria) { check(BendingModel::Koiter); }
-TEST(ForceSensitivity, HingeMatchesFiniteDifferencesOfWholeEquilibria) { check(BendingModel::Hinge); }
+TEST(ForceSensitivity, KoiterMatchesFiniteDifferencesOfWholeEquilibria) {
+  check(BendingModel::Koiter);
+}
+TEST(ForceSensitivity, HingeMatchesFiniteDifferencesOfWholeEquilibria) {
+  check(BendingModel::Hinge);
+}
+TEST(ForceSensitivity, SiteGivenInSpaceMatchesFiniteDifferencesOfWholeEquilibria) {
+  check(BendingModel::Koiter, 0.2, false);
+}
 TEST(ForceSensitivity, PlasmolysedMatchesFiniteDifferencesOfWholeEquilibria) {
   check(BendingModel::Koiter, 0.0);
 }

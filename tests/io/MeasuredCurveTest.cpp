@@ -12,8 +12,8 @@ namespace tp {
 namespace {
 
 using ::testing::DoubleNear;
-using ::testing::Pointwise;
 using ::testing::HasSubstr;
+using ::testing::Pointwise;
 
 std::string errorOf(const std::string& text, const MeasuredColumns& c = {}) {
   try {
@@ -25,10 +25,10 @@ std::string errorOf(const std::string& text, const MeasuredColumns& c = {}) {
 }
 
 TEST(MeasuredCurve, HeaderUnitsAreConvertedToMicrometresAndMicronewtons) {
-  const MeasuredCurve c =
-      parseMeasuredCurve("# an AFM curve\ntime_s,depth (nm),force [nN]\n0,0,0\n1,250,12.5\n"
-                         "2,500,40\n",
-                         "m.csv");
+  const MeasuredCurve c = parseMeasuredCurve(
+      "# an AFM curve\ntime_s,depth (nm),force [nN]\n0,0,0\n1,250,12.5\n"
+      "2,500,40\n",
+      "m.csv");
   EXPECT_EQ(c.name, "m.csv");
   EXPECT_THAT(c.depth, Pointwise(DoubleNear(1e-15), std::vector<double>{0.0, 0.25, 0.5}));
   EXPECT_THAT(c.force, Pointwise(DoubleNear(1e-15), std::vector<double>{0.0, 0.0125, 0.04}));
@@ -46,11 +46,13 @@ TEST(MeasuredCurve, ColumnsByNameOrPositionAndUnitsGiven) {
   c.depth = "depth";
   c.force = "F";
   const MeasuredCurve named = parseMeasuredCurve(text, "w.txt", c);
-  EXPECT_THAT(named.depth, Pointwise(DoubleNear(1e-15), std::vector<double>{0.1, 0.3}));  // 1e-7 m = 0.1 µm
-  EXPECT_DOUBLE_EQ(named.force[1], 5e-3);           // 5e-9 N = 5e-3 µN
+  EXPECT_THAT(named.depth,
+              Pointwise(DoubleNear(1e-15), std::vector<double>{0.1, 0.3}));  // 1e-7 m = 0.1 µm
+  EXPECT_DOUBLE_EQ(named.force[1], 5e-3);                                    // 5e-9 N = 5e-3 µN
   c.depth = "3";
   c.force = "2";
-  EXPECT_THAT(parseMeasuredCurve(text, "w.txt", c).depth, Pointwise(DoubleNear(1e-15), std::vector<double>{0.1, 0.3}));
+  EXPECT_THAT(parseMeasuredCurve(text, "w.txt", c).depth,
+              Pointwise(DoubleNear(1e-15), std::vector<double>{0.1, 0.3}));
   // No header: positions and units from the caller.
   MeasuredColumns bare;
   bare.depthUnit = "nm";
@@ -70,10 +72,12 @@ TEST(MeasuredCurve, ErrorsNameTheFileLineAndValue) {
               HasSubstr("unknown depth unit 'furlong'"));
   MeasuredColumns c;
   c.force = "stiffness";
-  EXPECT_THAT(errorOf("depth (nm),force (nN)\n1,2\n3,4\n", c),
-              HasSubstr("no force column 'stiffness' (the columns are 'depth (nm)', 'force (nN)')"));
+  EXPECT_THAT(
+      errorOf("depth (nm),force (nN)\n1,2\n3,4\n", c),
+      HasSubstr("no force column 'stiffness' (the columns are 'depth (nm)', 'force (nN)')"));
   c.force = "7";
-  EXPECT_THAT(errorOf("depth (nm),force (nN)\n1,2\n3,4\n", c), HasSubstr("column 7 is not a column"));
+  EXPECT_THAT(errorOf("depth (nm),force (nN)\n1,2\n3,4\n", c),
+              HasSubstr("column 7 is not a column"));
   EXPECT_THAT(errorOf("depth (nm),force (nN)\n1,2\n"), HasSubstr("fewer than two data rows"));
   EXPECT_THAT(errorOf("# nothing\n\n"), HasSubstr("no rows"));
   EXPECT_THAT(errorOf("depth (nm),force (nN)\n1,2\n3\n"), HasSubstr("line 3: 1 value(s)"));

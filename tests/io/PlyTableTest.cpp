@@ -156,16 +156,17 @@ TEST(PlyTable, UnknownTypes) {
   TableReader t(ascii, "t.ply");
   EXPECT_TRUE(t.skippable(0));
   EXPECT_NO_THROW(t.checkReadable(0, {1, 0, 0}));
-  EXPECT_THAT([&] {
-    try {
-      t.checkReadable(0, {0, 0, 1});
-    } catch (const PlyError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  }(),
-              HasSubstr("property 'y' of element 'a' cannot be read: it follows property 't' "
-                        "of unknown type 'tensor'"));
+  EXPECT_THAT(
+      [&] {
+        try {
+          t.checkReadable(0, {0, 0, 1});
+        } catch (const PlyError& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      }(),
+      HasSubstr("property 'y' of element 'a' cannot be read: it follows property 't' "
+                "of unknown type 'tensor'"));
   std::vector<double> x;
   t.read(0, {1, 0, 0}, [&](std::uint64_t, const Instance& in) { x.push_back(in.values[0]); });
   EXPECT_THAT(x, ElementsAre(1.0));  // the rest of the line is not read
