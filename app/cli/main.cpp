@@ -12,6 +12,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,7 @@
 #include "io/AtomicFile.h"
 #include "io/Centroids.h"
 #include "io/CurveCsv.h"
+#include "io/JpkCurve.h"
 #include "io/MeasuredCurve.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
@@ -457,12 +459,15 @@ struct FitArgs {
   std::string fit = "E,p";
   std::string depthColumn, forceColumn, depthUnit, forceUnit;
   int maxPoints = 25, maxIterations = 30;
+  std::optional<double> contactHeight;
   std::string report, out;
 };
 
-// "FILE" or "FILE@x,y,z" (a site of its own).
+// "FILE" or "FILE@x,y,z" (a site of its own): a table of indentation and force, or a JPK text
+// export (recognised by its content).
 FitCurve fitCurveArg(const std::string& arg, const MeasuredColumns& columns,
-                     std::optional<double> pressure) {
+                     std::optional<double> pressure, std::optional<double> contactHeight,
+                     bool quiet) {
   FitCurve c;
   std::string path = arg;
   const auto at = arg.rfind('@');
@@ -471,7 +476,24 @@ FitCurve fitCurveArg(const std::string& arg, const MeasuredColumns& columns,
     c.site = parseVec3(arg.substr(at + 1), "--curve " + arg);
   }
   if (!std::filesystem::exists(path)) throw UsageError("--curve: no file '" + path + "'");
-  c.data = readMeasuredCurve(path, columns);  // std::runtime_error naming file, line, value
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (looksLikeJpkText(text.str())) {
+    // A raw JPK curve: its approach converted to indentation at the estimated contact point.
+    RawCurveOptions o;
+    o.contactHeight = contactHeight;
+    const RawCurveReading r = parseJpkForceCurve(text.str(), path, o);
+    c.data = r.curve;
+    if (!quiet)
+      std::printf("# %s: JPK approach of %zu points, k = %g N/m; contact at height %.4f um (%s), "
+                  "baseline noise %.3g nN; %zu points in contact, to %.4g um and %.4g nN\n",
+                  path.c_str(), r.height.size(), r.springConstant, r.contactHeight,
+                  r.contactEstimated ? "estimated" : "given", 1e3 * r.noise, r.curve.depth.size(),
+                  r.curve.depth.back(), 1e3 * r.curve.force.back());
+  } else {
+    c.data = parseMeasuredCurve(text.str(), path, columns);  // names file, line, value
+  }
   c.pressure = pressure;
   return c;
 }
@@ -562,8 +584,10 @@ int runFit(const FitArgs& a) {
   fs.maxIterations = a.maxIterations;
   MeasuredColumns columns{a.depthColumn, a.forceColumn, a.depthUnit, a.forceUnit};
   std::vector<FitCurve> curves;
-  for (const auto& c : a.curves) curves.push_back(fitCurveArg(c, columns, std::nullopt));
-  for (const auto& c : a.plasmolysed) curves.push_back(fitCurveArg(c, columns, 0.0));
+  for (const auto& c : a.curves)
+    curves.push_back(fitCurveArg(c, columns, std::nullopt, a.contactHeight, a.model.quiet));
+  for (const auto& c : a.plasmolysed)
+    curves.push_back(fitCurveArg(c, columns, 0.0, a.contactHeight, a.model.quiet));
   auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
 
   Monitor monitor;
@@ -717,8 +741,9 @@ int main(int argc, char** argv) {
              "force-indentation curves at a site (Levenberg-Marquardt, exact derivatives)");
   addModelOptions(fit, fa.model);
   fit->add_option("--curve", fa.curves,
-                  "A measured curve (CSV/TSV table of indentation and force; FILE@x,y,z gives it "
-                  "a site of its own); repeat for several")
+                  "A measured curve: a CSV/TSV table of indentation and force, or a JPK force-"
+                  "curve text export (its approach converted at the contact point); FILE@x,y,z "
+                  "gives it a site of its own; repeat for several")
       ->take_all();
   fit->add_option("--plasmolysed-curve", fa.plasmolysed,
                   "A measured curve of the plasmolysed tissue (turgor held at 0)")
@@ -734,12 +759,15 @@ int main(int argc, char** argv) {
                   "The force column: header name or position (default: the first named force/F)");
   fit->add_option("--depth-unit", fa.depthUnit, "m, mm, um or nm (default: from the header)");
   fit->add_option("--force-unit", fa.forceUnit, "N, mN, uN, nN or pN (default: from the header)");
+  fit->add_option("--contact-height", fa.contactHeight,
+                  "JPK curves: the piezo height at contact, um (default: estimated where the "
+                  "force leaves the baseline's noise)");
   fit->add_option("--max-points", fa.maxPoints, "Measured points used per curve")
       ->capture_default_str();
   fit->add_option("--max-iterations", fa.maxIterations, "Levenberg-Marquardt iterations at most")
       ->capture_default_str();
   fit->add_option("--tolerance", fa.model.tolerance,
-                  "Newton tolerance of the simulations (at most 1e-11 is used)")
+                  "Newton tolerance of the simulations (at most 1e-10 is used)")
       ->capture_default_str();
   fit->add_option("--report", fa.report,
                   "Write a JSON report: values under their option names (E, p, h) with standard "
