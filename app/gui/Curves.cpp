@@ -42,6 +42,7 @@ std::string forceText(double force) {
 }
 
 std::string meshErrorText(const NamedCurve& c) {
+  if (c.measured) return "measured";
   if (c.meshError < 0) return "error not estimated";
   char b[64];
   std::snprintf(b, sizeof b, "±%.*f %%", c.meshError < 0.001 ? 2 : 1, 100 * c.meshError);
@@ -52,6 +53,10 @@ std::string curvesCsv(const std::vector<NamedCurve>& curves) {
   std::string out;
   for (const NamedCurve& c : curves) {
     std::string line = "# " + quoted(c.name) + ": ";
+    if (c.measured) {
+      out += line + "measured (read from an experiment's file)\n";
+      continue;
+    }
     line += c.meshLevel >= 0 ? "mesh level " + std::to_string(c.meshLevel) : "mesh level unknown";
     if (c.meshError >= 0) {
       char at[64];

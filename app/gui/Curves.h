@@ -20,6 +20,7 @@ struct NamedCurve {
   SimulationParams params;
   std::vector<CurvePoint> points;
   bool live = false;  // grown by dragging the probe (not a scheduled run)
+  bool measured = false;  // read from an experiment's file: drawn as points, not simulated
   // The mesh it was computed on and the estimated discretisation error of its deepest point.
   int meshLevel = -1;       // -1: not known
   double meshError = -1;    // relative; < 0: not estimated (yet)

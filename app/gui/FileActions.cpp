@@ -6,6 +6,9 @@
 #include <QSaveFile>
 #include <QSettings>
 
+#include <fstream>
+#include <sstream>
+
 #include "Curves.h"
 #include "PlotPanel.h"
 #include "RecentFiles.h"
@@ -16,6 +19,8 @@
 #include "SimulationController.h"
 #include "TissueView.h"
 #include "io/CurveCsv.h"
+#include "io/JpkCurve.h"
+#include "io/MeasuredCurve.h"
 
 namespace tp::gui {
 
@@ -219,6 +224,47 @@ void FileActions::exportScreenshotDialog() {
   if (path.isEmpty()) return;
   QString error;
   report(exportScreenshot(path, dialog.imageSize(), &error), tr("screenshot"), path, error);
+}
+
+bool FileActions::importMeasuredCurve(const QString& path, QString* error) {
+  try {
+    std::ifstream in(path.toStdString(), std::ios::binary);
+    if (!in) throw std::runtime_error(path.toStdString() + ": cannot open the curve file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    NamedCurve c;
+    const QString file = QFileInfo(path).fileName();
+    MeasuredCurve m;
+    if (looksLikeJpkText(text.str())) {
+      const RawCurveReading r = parseJpkForceCurve(text.str(), path.toStdString());
+      m = r.curve;
+      c.name = tr("measured · %1 (contact at %2 µm)").arg(file).arg(r.contactHeight, 0, 'f', 2).toStdString();
+    } else {
+      m = parseMeasuredCurve(text.str(), path.toStdString());
+      c.name = tr("measured · %1").arg(file).toStdString();
+    }
+    for (size_t k = 0; k < m.depth.size(); ++k)
+      c.points.push_back(CurvePoint{m.depth[k], m.force[k], 0, 0.0, true, false});
+    c.site = controller_->latest().site;
+    controller_->addMeasuredCurve(std::move(c));
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  return true;
+}
+
+void FileActions::importMeasuredCurveDialog() {
+  const QString path = QFileDialog::getOpenFileName(
+      window_, tr("Import a measured curve"), QString(),
+      tr("Force curves (*.csv *.tsv *.txt *.dat);;All files (*)"));
+  if (path.isEmpty()) return;
+  QString error;
+  if (!importMeasuredCurve(path, &error)) {
+    showError(window_, tr("Cannot read the curve"), error);
+    return;
+  }
+  emit statusMessage(tr("Measured curve %1 added").arg(QFileInfo(path).fileName()));
 }
 
 void FileActions::exportVtuDialog() {

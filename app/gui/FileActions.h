@@ -37,6 +37,10 @@ class FileActions : public QObject {
   /// The selected curve (else the newest) as tp::writeCurveCsv writes it.
   bool exportCurrentCurve(const QString& path, QString* error);
   bool exportScreenshot(const QString& path, const QSize& size, QString* error);
+  /// A measured force–indentation curve (a table with units in its header, or a JPK text
+  /// export converted at its estimated contact point) added to the plot. False with a message
+  /// naming the file, line and value.
+  bool importMeasuredCurve(const QString& path, QString* error);
 
  public slots:
   void openTissueDialog();
@@ -47,6 +51,7 @@ class FileActions : public QObject {
   void exportCurrentCurveDialog();
   void exportScreenshotDialog();
   void exportVtuDialog();
+  void importMeasuredCurveDialog();
 
  signals:
   void recentFilesChanged();

@@ -112,6 +112,10 @@ void MainWindow::createMenus() {
       [this] { files_->exportPlotDialog(); });
   add(file, tr("Export all &curves (CSV)…"), QKeySequence(tr("Ctrl+Shift+E")),
       tr("Every curve in one CSV with a 'curve' column"), [this] { files_->exportCurvesDialog(); });
+  add(file, tr("&Import measured curve…"), QKeySequence(tr("Ctrl+I")),
+      tr("A measured force–indentation curve (CSV/TSV with units in the header, or a JPK text "
+         "export), drawn as points beside the simulated curves"),
+      [this] { files_->importMeasuredCurveDialog(); });
   add(file, tr("Export selected curve (CSV)…"), QKeySequence(),
       tr("The selected (else the newest) curve"), [this] { files_->exportCurrentCurveDialog(); });
   QAction* shot = add(file, tr("Screens&hot of the 3D view…"), QKeySequence(tr("Ctrl+Shift+S")),

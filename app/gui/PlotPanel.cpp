@@ -98,6 +98,7 @@ namespace {
 
 // The curve's name with its mesh and estimated discretisation error.
 QString label(const NamedCurve& c) {
+  if (c.measured) return QString::fromStdString(c.name);  // "measured · file"
   QString text = QString::fromStdString(c.name) + " · " + QString::fromStdString(meshErrorText(c));
   if (c.meshLevel >= 0) text += QObject::tr(" (mesh level %1)").arg(c.meshLevel);
   return text;
@@ -108,6 +109,7 @@ QString label(const NamedCurve& c) {
 // curves rising to the right.
 QString legendLabel(const NamedCurve& c) {
   QString name = QString::fromStdString(c.name);
+  if (c.measured) return name;
   name.remove(QRegularExpression(QStringLiteral(" \\([^()]*\\) µm")));
   return name + " · " + QString::fromStdString(meshErrorText(c));
 }
@@ -159,6 +161,11 @@ void PlotPanel::redraw() {
     g->setPen(QPen(colour, highlighted ? 3.6 : 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
     g->setScatterStyle(
         QCPScatterStyle(c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5));
+    if (c.measured) {  // an experiment's points: markers only, no line through them
+      g->setLineStyle(QCPGraph::lsNone);
+      g->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, QPen(colour, highlighted ? 2.0 : 1.2),
+                                         Qt::NoBrush, highlighted ? 7 : 5));
+    }
     // Loading and unloading apart: the unloading branch (a run's way back) is its own graph,
     // dotted, without a legend entry, so it is not merged into the loading one by depth.
     QVector<double> x, y, ux, uy;

@@ -196,6 +196,7 @@ json sessionToJson(const SessionState& s) {
                   {"site", vec(c.site)},
                   {"parameters", toJson(c.params)},
                   {"live", c.live},
+                  {"measured", c.measured},
                   {"points", pointsToJson(c.points)}};
     if (c.meshLevel >= 0) curve["mesh_level"] = c.meshLevel;
     if (c.meshError >= 0)
@@ -241,6 +242,7 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
         if (c.contains("site")) nc.site = vecFrom(c.at("site"), w + ".site");
         if (c.contains("parameters")) nc.params = paramsFromJson(c.at("parameters"));
         nc.live = c.value("live", false);
+        nc.measured = c.value("measured", false);
         nc.points = pointsFromJson(c.value("points", json::array()), w + ".points");
         nc.meshLevel = c.value("mesh_level", -1);
         if (c.contains("mesh_error")) {

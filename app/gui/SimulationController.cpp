@@ -124,6 +124,17 @@ void SimulationController::exportVtu(const QString& path) {
   worker_->requestExportVtu(path);
 }
 
+void SimulationController::addMeasuredCurve(NamedCurve curve) {
+  curve.measured = true;
+  curve.live = false;
+  curve.params = params_;  // its nondimensional axes take the current E
+  curve.colour = nextColour_++;
+  curve.preparation = -1;
+  curves_.push_back(std::move(curve));
+  unsaved_ = true;
+  emit curvesChanged();
+}
+
 void SimulationController::removeCurve(int index) {
   if (index < 0 || index >= static_cast<int>(curves_.size())) return;
   curves_.erase(curves_.begin() + index);

@@ -42,6 +42,8 @@ class SimulationController : public QObject {
   void cancelRun();
   void exportVtu(const QString& path);
   void removeCurve(int index);
+  /// A measured curve (imported from a file), drawn beside the simulated ones.
+  void addMeasuredCurve(NamedCurve curve);
   void clearCurves();
 
   SessionState session() const;

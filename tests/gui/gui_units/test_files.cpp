@@ -67,6 +67,7 @@ class FilesTest : public QObject {
     s.currentSite = 1;
     s.curves = {curve("site 1 · E 100 MPa", 60, false), curve("quote \" and, comma", 30, true)};
     s.curves[1].live = true;
+    s.curves[0].measured = true;
     const SessionState r = sessionFromJson(sessionToJson(s), "test");
     QCOMPARE(r.tissuePath, s.tissuePath);
     QVERIFY(r.params == s.params);
@@ -80,6 +81,7 @@ class FilesTest : public QObject {
       QVERIFY(r.curves[i].site == s.curves[i].site);
       QVERIFY(r.curves[i].params == s.curves[i].params);
       QCOMPARE(r.curves[i].live, s.curves[i].live);
+      QCOMPARE(r.curves[i].measured, s.curves[i].measured);
       QVERIFY(samePoints(r.curves[i].points, s.curves[i].points));
     }
     QVERIFY(!r.display);  // none given, none read

@@ -22,6 +22,7 @@
 #include <QTest>
 
 #include <qcustomplot.h>
+#include <cstdlib>
 #include <fstream>
 
 #include "DisplayPanel.h"
@@ -459,6 +460,52 @@ class WindowTest : public QObject {
     QVERIFY(text.contains("<VTKFile") && text.contains("von_mises_MPa"));
   }
 
+  void measuredCurvesAreImportedAsPoints() {
+    const int before = int(c_->curves().size());
+    const QString table = dir_.path() + "/afm.csv";
+    {
+      QFile f(table);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write("# an AFM curve\ndepth (nm),force (nN)\n0,0\n100,400\n200,1200\n300,2300\n");
+    }
+    QString error;
+    QVERIFY2(w_->fileActions()->importMeasuredCurve(table, &error), qPrintable(error));
+    QCOMPARE(int(c_->curves().size()), before + 1);
+    const NamedCurve& m = c_->curves().back();
+    QVERIFY(m.measured);
+    QCOMPARE(m.name, std::string("measured · afm.csv"));
+    QCOMPARE(int(m.points.size()), 4);
+    QCOMPARE(m.points[3].depth, 0.3);  // µm
+    QCOMPARE(m.points[3].force, 2.3);  // µN
+    QVERIFY(c_->hasUnsavedCurves());
+    // Drawn as markers without a line, its legend entry saying "measured".
+    QCustomPlot* plot = w_->plotPanel()->plot();
+    QCPGraph* g = plot->graph(plot->graphCount() - 1);
+    QCOMPARE(int(g->lineStyle()), int(QCPGraph::lsNone));
+    QVERIFY(g->name().contains("measured"));
+    // The real JPK export: converted at its contact point, named with it.
+    const char* shared = std::getenv("TP_SHARED_DATA_DIR");
+    const QString jpk = (shared && *shared ? QString(shared)
+                                           : QString(TP_SOURCE_DIR) + "/../shared/data") +
+                        "/afm_jpk_text_export/force-save-2021.06.30-12.04.16.071.txt";
+    if (QFile::exists(jpk)) {
+      QVERIFY2(w_->fileActions()->importMeasuredCurve(jpk, &error), qPrintable(error));
+      QVERIFY(QString::fromStdString(c_->curves().back().name).contains("contact at 31.46 µm"));
+      c_->removeCurve(int(c_->curves().size()) - 1);
+    }
+    // A bad table is refused with the file, line and value.
+    const QString bad = dir_.path() + "/bad.csv";
+    {
+      QFile f(bad);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write("depth (nm),force (nN)\n0,0\n100,lots\n");
+    }
+    QVERIFY(!w_->fileActions()->importMeasuredCurve(bad, &error));
+    QVERIFY2(error.contains("bad.csv: line 3: force 'lots' is not a finite number"),
+             qPrintable(error));
+    QCOMPARE(int(c_->curves().size()), before + 1);
+  }
+
   void sessionSavedAndReopened() {
     const QString path = dir_.path() + "/session.json";
     QString error;
@@ -484,7 +531,10 @@ class WindowTest : public QObject {
     const int preparation = c_->latest().preparation;
     QVERIFY2(w_->fileActions()->openSession(path, &error), qPrintable(error));
     QCOMPARE(int(c_->curves().size()), int(names.size()));
-    for (size_t i = 0; i < names.size(); ++i) QCOMPARE(c_->curves()[i].name, names[i].name);
+    for (size_t i = 0; i < names.size(); ++i) {
+      QCOMPARE(c_->curves()[i].name, names[i].name);
+      QCOMPARE(c_->curves()[i].measured, names[i].measured);
+    }
     QCOMPARE(w_->plotPanel()->curveCount(), int(names.size()));
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
     waitIdle();
