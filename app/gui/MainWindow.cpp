@@ -10,6 +10,11 @@
 #include <QApplication>
 #include <QCloseEvent>
 #include <QDockWidget>
+#include <QPushButton>
+#include <QFormLayout>
+#include <QDialogButtonBox>
+#include <QDialog>
+#include <QCheckBox>
 #include <QFileInfo>
 #include <QKeyEvent>
 #include <QLabel>
@@ -155,6 +160,10 @@ void MainWindow::createMenus() {
   QAction* cancel = add(sim, tr("&Cancel"), QKeySequence(Qt::Key_Escape),
                         tr("Stop the running curve after its current point (Esc)"),
                         [this] { controller_->cancelRun(); });
+  add(sim, tr("&Fit measured curves…"), QKeySequence(tr("Ctrl+F")),
+      tr("Fit the walls' E, the turgor p (and h, a contact offset) to the measured curves at "
+         "the current site; Cancel stops it"),
+      [this] { askFit(); });
   sim->addSeparator();
   add(sim, tr("&Turgid preset"), QKeySequence(), tr("Turgor p = 0.8 MPa"),
       [this] { params_->applyTurgidPreset(); });
@@ -293,6 +302,7 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
+  connect(c, &SimulationController::fitFinished, this, &MainWindow::showFit);
   // Earlier sites on the tissue, the selected curve's highlighted.
   connect(c, &SimulationController::sitesChanged, this, &MainWindow::updateSiteMarkers);
   connect(c, &SimulationController::curvesChanged, this, &MainWindow::updateSiteMarkers);
@@ -342,6 +352,73 @@ void MainWindow::showControls() {
          "Arrows: turn · +/-: zoom · F: fit · 1/3/7: front/right/top · R: reset · "
          "Z: zoom to the probe\n"
          "Space: run the curve · Esc: cancel"));
+}
+
+void MainWindow::askFit() {
+  QDialog dialog(this);
+  dialog.setWindowTitle(tr("Fit measured curves"));
+  auto* form = new QFormLayout(&dialog);
+  form->addRow(new QLabel(tr("Fit to every measured curve, at the current site, from the current "
+                             "parameters (the others held):")));
+  auto* e = new QCheckBox(tr("E, the walls' Young modulus"));
+  auto* p = new QCheckBox(tr("p, the turgor pressure"));
+  auto* h = new QCheckBox(tr("h, the wall thickness"));
+  auto* o = new QCheckBox(tr("a contact-point offset per curve"));
+  e->setChecked(true);
+  p->setChecked(true);
+  for (QCheckBox* b : {e, p, h, o}) form->addRow(b);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  buttons->button(QDialogButtonBox::Ok)->setText(tr("Fit"));
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  form->addRow(buttons);
+  if (dialog.exec() != QDialog::Accepted) return;
+  QString why;
+  if (!controller_->fitMeasuredCurves(e->isChecked(), p->isChecked(), h->isChecked(),
+                                      o->isChecked(), &why))
+    QMessageBox::warning(this, tr("Cannot fit"), why);
+}
+
+void MainWindow::showFit(const FitOutcome& outcome) {
+  if (!outcome.ok || !outcome.result) {
+    QMessageBox::warning(this, tr("Fit failed"), outcome.message);
+    return;
+  }
+  const FitResult& r = *outcome.result;
+  QString text;
+  for (const FitValue& v : r.values) {
+    if (v.fitted)
+      text += tr("%1 = %2 ± %3 %4   (95 %: %5 to %6)\n")
+                  .arg(QString::fromStdString(v.key))
+                  .arg(v.value, 0, 'g', 5)
+                  .arg(v.error, 0, 'g', 2)
+                  .arg(QString::fromStdString(v.unit))
+                  .arg(v.value - 1.96 * v.error, 0, 'g', 5)
+                  .arg(v.value + 1.96 * v.error, 0, 'g', 5);
+    else
+      text += tr("%1 = %2 %3 (held)\n")
+                  .arg(QString::fromStdString(v.key))
+                  .arg(v.value, 0, 'g', 5)
+                  .arg(QString::fromStdString(v.unit));
+  }
+  for (int i = 0; i < r.correlation.rows(); ++i)
+    for (int j = i + 1; j < r.correlation.cols(); ++j)
+      text += tr("correlation %1–%2: %3\n")
+                  .arg(QString::fromStdString(r.fittedKeys[i]))
+                  .arg(QString::fromStdString(r.fittedKeys[j]))
+                  .arg(r.correlation(i, j), 0, 'f', 3);
+  text += tr("rms residual %1 µN (%2 µN at the start)\n").arg(r.rms, 0, 'g', 3).arg(r.rmsStart, 0, 'g', 3);
+  for (size_t i = 0; i < r.curves.size(); ++i)
+    text += tr("curve %1: Hertz apparent modulus %2 MPa, mesh level %3\n")
+                .arg(i + 1)
+                .arg(r.curves[i].hertzModulus, 0, 'g', 4)
+                .arg(r.curves[i].meshLevel);
+  if (!r.converged) text += tr("\nThe fit did not converge: %1\n").arg(outcome.message);
+  if (!r.advice.empty()) text += "\n" + QString::fromStdString(r.advice);
+  QMessageBox box(r.identifiable && r.converged ? QMessageBox::Information : QMessageBox::Warning,
+                  tr("Fit of the measured curves"), text, QMessageBox::Ok, this);
+  box.setObjectName("fitResult");
+  box.exec();
 }
 
 void MainWindow::updateSiteMarkers() {

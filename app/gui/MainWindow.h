@@ -17,6 +17,7 @@ class ParameterPanel;
 class PlotPanel;
 class SimulationController;
 class TissueView;
+struct FitOutcome;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -45,6 +46,8 @@ class MainWindow : public QMainWindow {
   void wire();
   void updateRecentMenu();
   void updateSiteMarkers();
+  void askFit();
+  void showFit(const tp::gui::FitOutcome& outcome);
   void showControls();
 
   SimulationController* controller_;

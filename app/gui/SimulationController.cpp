@@ -39,6 +39,7 @@ SimulationController::SimulationController(QObject* parent) : QObject(parent) {
   connect(worker_, &SimulationWorker::meshErrorEstimated, this,
           &SimulationController::onMeshError);
   connect(worker_, &SimulationWorker::runProgress, this, &SimulationController::runProgress);
+  connect(worker_, &SimulationWorker::fitFinished, this, &SimulationController::onFitFinished);
   connect(worker_, &SimulationWorker::runFinished, this, &SimulationController::onRunFinished);
   connect(worker_, &SimulationWorker::exported, this,
           [this](const QString& path) { emit exportFinished(path, true, QString()); });
@@ -117,7 +118,80 @@ void SimulationController::runCurve() {
 }
 
 void SimulationController::cancelRun() {
-  if (running_) worker_->cancel();
+  if (running_ || fitting_) worker_->cancel();
+}
+
+bool SimulationController::fitMeasuredCurves(bool E, bool p, bool h, bool offset, QString* why) {
+  auto refuse = [&](const QString& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (fitting_ || running_) return refuse(tr("a curve or a fit is running"));
+  if (!prepared()) return refuse(tr("no site is prepared yet"));
+  if (!E && !p && !h && !offset) return refuse(tr("choose at least one value to fit"));
+  FitSettings fs;
+  fs.start = params_.experimentSettings();
+  // At the current site and along the probe's axis there, both held during the fit.
+  fs.start.indentation.site = latest_.site;
+  fs.start.indentation.axis = latest_.axis;
+  fs.fitE = E;
+  fs.fitP = p;
+  fs.fitH = h;
+  fs.fitOffset = offset;
+  fs.maxPoints = 15;  // each point costs an equilibrium and its sensitivities
+  std::vector<FitCurve> data;
+  for (const NamedCurve& c : curves_) {
+    if (!c.measured) continue;
+    FitCurve f;
+    f.data.name = c.name;
+    for (const CurvePoint& pt : c.points) {
+      f.data.depth.push_back(pt.depth);
+      f.data.force.push_back(pt.force);
+    }
+    data.push_back(std::move(f));
+  }
+  if (data.empty()) return refuse(tr("no measured curve: import one first (File ▸ Import measured curve)"));
+  fitting_ = true;
+  worker_->requestFit(fs, data);
+  return true;
+}
+
+void SimulationController::onFitFinished(const FitOutcome& outcome) {
+  fitting_ = false;
+  if (outcome.ok && outcome.result) {
+    const FitResult& r = *outcome.result;
+    // The simulated curves at the fitted values, at the measured depths used.
+    auto text = [](const FitValue* v) {
+      return v->fitted ? QString("%1 %2 ± %3 %4")
+                             .arg(QString::fromStdString(v->key))
+                             .arg(v->value, 0, 'g', 4)
+                             .arg(v->error, 0, 'g', 2)
+                             .arg(QString::fromStdString(v->unit))
+                       : QString("%1 %2 %3 (held)")
+                             .arg(QString::fromStdString(v->key))
+                             .arg(v->value, 0, 'g', 4)
+                             .arg(QString::fromStdString(v->unit));
+    };
+    const QString values = text(r.find("E")) + ", " + text(r.find("p"));
+    for (size_t i = 0; i < r.curves.size(); ++i) {
+      NamedCurve c;
+      c.name = tr("fit · %1").arg(values).toStdString();
+      c.site = latest_.site;
+      c.params = params_;
+      c.params.youngModulus = r.find("E")->value;
+      c.params.pressure = r.find("p")->value;
+      c.params.thickness = r.find("h")->value;
+      for (size_t k = 0; k < r.curves[i].depth.size(); ++k)
+        c.points.push_back(
+            CurvePoint{r.curves[i].depth[k], r.curves[i].simulated[k], 0, 0.0, true, false});
+      c.meshLevel = r.curves[i].meshLevel;
+      c.colour = nextColour_++;
+      curves_.push_back(std::move(c));
+    }
+    unsaved_ = true;
+    emit curvesChanged();
+  }
+  emit fitFinished(outcome);
 }
 
 void SimulationController::exportVtu(const QString& path) {

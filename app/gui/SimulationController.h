@@ -15,6 +15,7 @@
 #include "Curves.h"
 #include "Parameters.h"
 #include "SessionFile.h"
+#include "SimulationWorker.h"  // FitOutcome
 #include "Snapshot.h"
 
 namespace tp::gui {
@@ -44,6 +45,11 @@ class SimulationController : public QObject {
   void removeCurve(int index);
   /// A measured curve (imported from a file), drawn beside the simulated ones.
   void addMeasuredCurve(NamedCurve curve);
+  /// Fits the chosen values to every measured curve at the current site (experiment/Fit.h),
+  /// from the current parameters; the fitted curves are added when it ends. False (nothing
+  /// started) without a measured curve, a prepared site or anything to fit.
+  bool fitMeasuredCurves(bool E, bool p, bool h, bool offset, QString* why = nullptr);
+  bool fitting() const { return fitting_; }
   void clearCurves();
 
   SessionState session() const;
@@ -91,8 +97,10 @@ class SimulationController : public QObject {
   void exportFinished(const QString& path, bool ok, const QString& message);
   /// The mesh and its estimated discretisation error, for the status bar.
   void meshErrorChanged(const QString& text);
+  void fitFinished(const tp::gui::FitOutcome& outcome);
 
  private:
+  void onFitFinished(const tp::gui::FitOutcome& outcome);
   void onSnapshot(const Snapshot& s);
   void onRunStarted(int total, bool rerun);
   void onMeshError(const MeshErrorReport& report);
@@ -115,7 +123,7 @@ class SimulationController : public QObject {
   int liveCurve_ = -1, runCurve_ = -1, lastRunCurve_ = -1;
   int lastPreparation_ = -1;
   Snapshot latest_;
-  bool busy_ = false, running_ = false;
+  bool busy_ = false, running_ = false, fitting_ = false;
   double requestedDepth_ = 0;
   int snapshotCount_ = 0;
 };

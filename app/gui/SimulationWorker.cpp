@@ -50,8 +50,9 @@ namespace {
 
 // Bits of request kinds (their index in the Request variant) for interruptibleBy_.
 constexpr int kLoadBit = 1 << 0, kPrepareBit = 1 << 1, kDepthBit = 1 << 2, kRunBit = 1 << 3,
-              kExportBit = 1 << 4, kEstimateBit = 1 << 5;
-constexpr int kAnything = kLoadBit | kPrepareBit | kDepthBit | kRunBit | kExportBit | kEstimateBit;
+              kExportBit = 1 << 4, kEstimateBit = 1 << 5, kFitBit = 1 << 6;
+constexpr int kAnything =
+    kLoadBit | kPrepareBit | kDepthBit | kRunBit | kExportBit | kEstimateBit | kFitBit;
 
 QString q(const std::string& s) {
   return QString::fromStdString(s);
@@ -97,6 +98,7 @@ std::string percent(double relative) {
 
 SimulationWorker::SimulationWorker() : s_(std::make_unique<State>()) {
   qRegisterMetaType<tp::gui::MeshErrorReport>();
+  qRegisterMetaType<tp::gui::FitOutcome>();
 }
 SimulationWorker::~SimulationWorker() = default;
 
@@ -120,6 +122,12 @@ void SimulationWorker::requestRun(const Schedule& schedule) {
 
 void SimulationWorker::requestExportVtu(const QString& path) {
   enqueue(ExportVtu{path});
+}
+
+void SimulationWorker::requestFit(const tp::FitSettings& settings,
+                                  const std::vector<tp::FitCurve>& curves) {
+  stop_ = false;  // as for a run: a Cancel right after the request counts
+  enqueue(Fit{settings, curves});
 }
 
 void SimulationWorker::stop() {
@@ -183,7 +191,8 @@ void SimulationWorker::processNext() {
       // A Cancel of a run not started yet still counts (requestRun cleared the flag before);
       // anything else starts afresh, and so does a run after an interrupted task (an error
       // estimate interrupted by this very run request had set the flag after requestRun).
-      if (!std::holds_alternative<Run>(*r) || interrupted_) stop_ = false;
+      if ((!std::holds_alternative<Run>(*r) && !std::holds_alternative<Fit>(*r)) || interrupted_)
+        stop_ = false;
       interrupted_ = false;
     }
   }
@@ -556,6 +565,29 @@ void SimulationWorker::handle(const ExportVtu& r) {
   } catch (const std::exception& e) {
     emit exportFailed(r.path, QString::fromUtf8(e.what()));
   }
+}
+
+void SimulationWorker::handle(const Fit& r) {
+  FitOutcome out;
+  if (!s_->base) {
+    out.message = tr("no tissue is loaded");
+    emit fitFinished(out);
+    return;
+  }
+  emit busy(tr("Fitting…"));
+  Monitor monitor;
+  monitor.cancel = &stop_;
+  monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
+  try {
+    out.result = std::make_shared<const FitResult>(fitCurves(s_->base, r.settings, r.curves, monitor));
+    out.ok = true;
+    out.message = q(out.result->message);
+  } catch (const Cancelled&) {
+    out.message = tr("the fit was cancelled");
+  } catch (const std::exception& e) {
+    out.message = QString::fromUtf8(e.what());
+  }
+  emit fitFinished(out);
 }
 
 Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {

@@ -24,6 +24,7 @@
 
 #include "Parameters.h"
 #include "Snapshot.h"
+#include "experiment/Fit.h"
 
 namespace tp::gui {
 
@@ -36,6 +37,13 @@ struct SiteRequest {
   enum class Kind { Top, Current, Point, Rest };
   Kind kind = Kind::Top;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // Kind::Point and Kind::Rest, µm
+};
+
+/// What a fit in the worker ended with: the result, or why there is none.
+struct FitOutcome {
+  bool ok = false;
+  QString message;
+  std::shared_ptr<const tp::FitResult> result;
 };
 
 class SimulationWorker : public QObject {
@@ -57,6 +65,9 @@ class SimulationWorker : public QObject {
   void requestRun(const Schedule& schedule);
   /// Writes the current state with its stress fields as VTU.
   void requestExportVtu(const QString& path);
+  /// Fits the settings' E, p, h to measured curves on the loaded tissue (experiment/Fit.h);
+  /// stopped by cancel() within one Newton iteration.
+  void requestFit(const tp::FitSettings& settings, const std::vector<tp::FitCurve>& curves);
   /// Stops a running curve (within one Newton iteration).
   void cancel() {
     std::lock_guard lock(mutex_);
@@ -84,6 +95,7 @@ class SimulationWorker : public QObject {
   void meshErrorEstimated(const tp::gui::MeshErrorReport& report);
   void exported(const QString& path);
   void exportFailed(const QString& path, const QString& message);
+  void fitFinished(const tp::gui::FitOutcome& outcome);
 
  private:
   struct Load {
@@ -107,7 +119,11 @@ class SimulationWorker : public QObject {
   struct EstimateLive {  // the error of the curve grown by dragging, once the drag rests
     int preparation;
   };
-  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive>;
+  struct Fit {
+    tp::FitSettings settings;
+    std::vector<tp::FitCurve> curves;
+  };
+  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive, Fit>;
 
   void enqueue(Request r);
   void processNext();
@@ -117,6 +133,7 @@ class SimulationWorker : public QObject {
   void handle(const Run& r);
   void handle(const ExportVtu& r);
   void handle(const EstimateLive& r);
+  void handle(const Fit& r);
   bool prepare(const SimulationParams& params, const SiteRequest& site, bool newSite,
                bool keepLevel = false);
   bool runSchedule(const Schedule& schedule, bool rerun);
@@ -136,3 +153,5 @@ class SimulationWorker : public QObject {
 };
 
 }  // namespace tp::gui
+
+Q_DECLARE_METATYPE(tp::gui::FitOutcome)

@@ -662,6 +662,53 @@ class WindowTest : public QObject {
     });
   }
 
+  void fitReadsBackTheModulusOfACurveAndReportsIt() {
+    // Nothing measured: refused with the reason.
+    for (int i = int(c_->curves().size()) - 1; i >= 0; --i)
+      if (c_->curves()[i].measured) c_->removeCurve(i);
+    QString why;
+    QVERIFY(!c_->fitMeasuredCurves(true, false, false, false, &why));
+    QVERIFY2(why.contains("no measured curve"), qPrintable(why));
+    // A curve simulated at E = 100 MPa on the tissue as given (level 0, fast), taken as measured,
+    // is read back from E = 150 MPa.
+    SimulationParams p = c_->params();
+    p.autoMesh = false;
+    p.meshLevel = 0;
+    p.youngModulus = 100;
+    c_->setParams(p);
+    waitIdle();
+    Schedule s;
+    s.maxDepth = 0.3;
+    s.steps = 3;
+    c_->setSchedule(s);
+    c_->runCurve();
+    waitIdle();
+    NamedCurve measured = c_->curves().back();
+    QCOMPARE(int(measured.points.size()), 4);
+    measured.name = "measured · simulated at E 100";
+    c_->addMeasuredCurve(measured);
+    p.youngModulus = 150;
+    c_->setParams(p);
+    waitIdle();
+    QSignalSpy done(c_, &SimulationController::fitFinished);
+    QString text;
+    answerNextMessageBox(QMessageBox::Ok, &text);  // the report the window shows
+    QVERIFY(c_->fitMeasuredCurves(true, false, false, false, &why));
+    QTRY_COMPARE_WITH_TIMEOUT(done.count(), 1, 120000);
+    const auto outcome = done.first().at(0).value<FitOutcome>();
+    QVERIFY2(outcome.ok, qPrintable(outcome.message));
+    const double E = outcome.result->find("E")->value;
+    QVERIFY2(std::abs(E - 100) < 1.0, qPrintable(QString("E = %1").arg(E)));
+    QTRY_VERIFY_WITH_TIMEOUT(text.contains("E = "), 10000);
+    QVERIFY2(text.contains("Hertz apparent modulus"), qPrintable(text));
+    QVERIFY(QString::fromStdString(c_->curves().back().name).startsWith("fit · E 10"));
+    waitIdle();
+    p.autoMesh = true;
+    p.youngModulus = 100;
+    c_->setParams(p);
+    waitIdle();
+  }
+
   void clearAsksFirst() {
     QVERIFY(!c_->curves().empty());
     const int n = static_cast<int>(c_->curves().size());
