@@ -84,6 +84,7 @@ class Problem {
       is.axis = c.axis;
       is.control = Control::Depth;
       Indentation ind(model, is, solverOptions());
+      ind.solver().setCancelFlag(monitor_.cancel);  // a cancel stops within one iteration
       const SolveReport rest = ind.prepare(c.turgid.size() ? &c.turgid : nullptr);
       if (!rest.converged) {
         message_ = "rest state at E = " + std::to_string(E) + ", p = " + std::to_string(p) + ": " +
@@ -275,7 +276,7 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
   std::vector<double> r0;
   monitor.say("Simulating the curves at the starting values…");
   if (!problem.simulate(theta.data(), r0, nullptr)) {
-    if (problem.cancelled()) throw Cancelled();
+    if (problem.cancelled() || monitor.cancelled()) throw Cancelled();
     throw SolveFailure("at the starting values: " + problem.message());
   }
   auto rmsOf = [](const std::vector<double>& r) {

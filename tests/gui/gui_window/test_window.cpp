@@ -703,6 +703,19 @@ class WindowTest : public QObject {
     QVERIFY2(text.contains("Hertz apparent modulus"), qPrintable(text));
     QVERIFY(QString::fromStdString(c_->curves().back().name).startsWith("fit · E 10"));
     waitIdle();
+    // Cancel stops a fit within an iteration and says so; no curve is added.
+    const int curves = int(c_->curves().size());
+    QString cancelled;
+    answerNextMessageBox(QMessageBox::Ok, &cancelled);
+    QVERIFY(c_->fitMeasuredCurves(true, true, false, false, &why));
+    QTRY_VERIFY_WITH_TIMEOUT(c_->busy(), 10000);
+    c_->cancelRun();
+    QTRY_COMPARE_WITH_TIMEOUT(done.count(), 2, 30000);
+    QVERIFY(!done.at(1).at(0).value<FitOutcome>().ok);
+    QTRY_VERIFY_WITH_TIMEOUT(cancelled.contains("cancelled"), 10000);
+    QCOMPARE(int(c_->curves().size()), curves);
+    QVERIFY(!c_->fitting());
+    waitIdle();
     p.autoMesh = true;
     p.youngModulus = 100;
     c_->setParams(p);
