@@ -29,6 +29,9 @@ heavy='PlateBending\.CircularPlates|Experiment\.AutomaticMesh|Experiment\.Refine
 heavy+='|Experiment\.CancelStops|ContactKept\.TensionFree|RealTissue\.IndentationCurve|Refine\.ForceDepthCurve'
 heavy+='|Refine\.CoarseMeshLets|ClosedForm\.Clamped|ClosedForm\.Hencky|Cli\.DepthControl|Cli\.ForceControl'
 heavy+='|Cli\.DeepIndentation|Cli\.ReferenceSolverGives|Cli\.RefinementAtTheSite|Meristem\.ValidForManySeeds'
+# The fits take ~60 s each under the sanitizers (45 times Release): one full fit
+# (Fit.TurgidAndPlasmolysed...) and every sensitivity test still run here.
+heavy+='|Fit\.NoisyCurves|Fit\.ATurgidCurveAlone|Cli\.FitReadsBackTheModulus'
 echo "== sanitizers: the tests under ASan + UBSan (but the slow and the heavy ones)"
 (cd build-asan && ctest --output-on-failure --timeout 900 -j "$(nproc)" -LE slow -E "$heavy")
 
