@@ -41,6 +41,16 @@ bool samePoints(const std::vector<tp::CurvePoint>& a, const std::vector<tp::Curv
   return true;
 }
 
+// The message a session read as "s.json" is refused with (empty when it is accepted).
+std::string message(const nlohmann::json& j) {
+  try {
+    sessionFromJson(j, "s.json");
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return {};
+}
+
 }  // namespace
 
 class FilesTest : public QObject {
@@ -125,14 +135,6 @@ class FilesTest : public QObject {
     QVERIFY((got.camera->orientation - d.camera->orientation).norm() < 1e-15);
     QCOMPARE(got.camera->distance, 12.75);
     // Bad values are refused naming the key.
-    auto message = [](const nlohmann::json& j) {
-      try {
-        sessionFromJson(j, "s.json");
-      } catch (const std::runtime_error& e) {
-        return std::string(e.what());
-      }
-      return std::string();
-    };
     const nlohmann::json good = sessionToJson(s);
     QVERIFY(message(good).empty());
     nlohmann::json j = good;
@@ -171,14 +173,6 @@ class FilesTest : public QObject {
   }
 
   void badSessionsAreRejectedByName() {
-    auto message = [](const nlohmann::json& j) {
-      try {
-        sessionFromJson(j, "s.json");
-      } catch (const std::runtime_error& e) {
-        return std::string(e.what());
-      }
-      return std::string();
-    };
     nlohmann::json good = sessionToJson(SessionState{});
     QVERIFY(message(good).empty());
     nlohmann::json j = good;
