@@ -35,6 +35,7 @@
 #include "io/MeasuredCurve.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
+#include "io/TextFile.h"
 #include "io/TissueFiles.h"
 #include "io/Vtu.h"
 #include "mesh/Quality.h"
@@ -476,14 +477,12 @@ FitCurve fitCurveArg(const std::string& arg, const MeasuredColumns& columns,
     c.site = parseVec3(arg.substr(at + 1), "--curve " + arg);
   }
   if (!std::filesystem::exists(path)) throw UsageError("--curve: no file '" + path + "'");
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (looksLikeJpkText(text.str())) {
+  const std::string text = readTextFile(path, "curve");
+  if (looksLikeJpkText(text)) {
     // A raw JPK curve: its approach converted to indentation at the estimated contact point.
     RawCurveOptions o;
     o.contactHeight = contactHeight;
-    const RawCurveReading r = parseJpkForceCurve(text.str(), path, o);
+    const RawCurveReading r = parseJpkForceCurve(text, path, o);
     c.data = r.curve;
     if (!quiet)
       std::printf("# %s: JPK approach of %zu points, k = %g N/m; contact at height %.4f um (%s), "
@@ -492,7 +491,7 @@ FitCurve fitCurveArg(const std::string& arg, const MeasuredColumns& columns,
                   r.contactEstimated ? "estimated" : "given", 1e3 * r.noise, r.curve.depth.size(),
                   r.curve.depth.back(), 1e3 * r.curve.force.back());
   } else {
-    c.data = parseMeasuredCurve(text.str(), path, columns);  // names file, line, value
+    c.data = parseMeasuredCurve(text, path, columns);  // names file, line, value
   }
   c.pressure = pressure;
   return c;

@@ -6,8 +6,6 @@
 #include <QSaveFile>
 #include <QSettings>
 
-#include <fstream>
-#include <sstream>
 
 #include "Curves.h"
 #include "PlotPanel.h"
@@ -21,6 +19,7 @@
 #include "io/CurveCsv.h"
 #include "io/JpkCurve.h"
 #include "io/MeasuredCurve.h"
+#include "io/TextFile.h"
 
 namespace tp::gui {
 
@@ -228,19 +227,16 @@ void FileActions::exportScreenshotDialog() {
 
 bool FileActions::importMeasuredCurve(const QString& path, QString* error) {
   try {
-    std::ifstream in(path.toStdString(), std::ios::binary);
-    if (!in) throw std::runtime_error(path.toStdString() + ": cannot open the curve file");
-    std::ostringstream text;
-    text << in.rdbuf();
+    const std::string text = readTextFile(path.toStdString(), "curve");
     NamedCurve c;
     const QString file = QFileInfo(path).fileName();
     MeasuredCurve m;
-    if (looksLikeJpkText(text.str())) {
-      const RawCurveReading r = parseJpkForceCurve(text.str(), path.toStdString());
+    if (looksLikeJpkText(text)) {
+      const RawCurveReading r = parseJpkForceCurve(text, path.toStdString());
       m = r.curve;
       c.name = tr("measured · %1 (contact at %2 µm)").arg(file).arg(r.contactHeight, 0, 'f', 2).toStdString();
     } else {
-      m = parseMeasuredCurve(text.str(), path.toStdString());
+      m = parseMeasuredCurve(text, path.toStdString());
       c.name = tr("measured · %1").arg(file).toStdString();
     }
     for (size_t k = 0; k < m.depth.size(); ++k)

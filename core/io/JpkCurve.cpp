@@ -1,5 +1,7 @@
 #include "io/JpkCurve.h"
 
+#include "io/TextFile.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -182,11 +184,7 @@ RawCurveReading parseJpkForceCurve(const std::string& text, const std::string& n
 }
 
 RawCurveReading readJpkForceCurve(const std::string& path, const RawCurveOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the curve file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parseJpkForceCurve(ss.str(), path, options);
+  return parseJpkForceCurve(readTextFile(path, "curve"), path, options);
 }
 
 }  // namespace tp

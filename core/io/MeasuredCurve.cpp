@@ -1,5 +1,7 @@
 #include "io/MeasuredCurve.h"
 
+#include "io/TextFile.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -197,11 +199,7 @@ MeasuredCurve parseMeasuredCurve(const std::string& text, const std::string& nam
 }
 
 MeasuredCurve readMeasuredCurve(const std::string& path, const MeasuredColumns& columns) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open the curve file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parseMeasuredCurve(ss.str(), path, columns);
+  return parseMeasuredCurve(readTextFile(path, "curve"), path, columns);
 }
 
 }  // namespace tp
