@@ -170,7 +170,10 @@ DisplaySettings displayFromJson(const json& j) {
     }
     if (!ok || !(cam.orientation.norm() > 1e-6))
       throw std::runtime_error("display.camera.orientation must be a quaternion [w, x, y, z]");
-    cam.orientation.normalize();
+    // Normalised once: a unit quaternion read again is kept bit for bit (normalising twice can
+    // move the last bit, and a session saved and opened again must not change).
+    const double norm = cam.orientation.norm();
+    if (std::abs(norm - 1.0) > 1e-12) cam.orientation /= norm;
     number(c, "distance", 1e-9, 1e9, cam.distance, "display.camera.");
     if (!c.contains("distance")) throw std::runtime_error("display.camera.distance is missing");
     d.camera = cam;
