@@ -386,6 +386,7 @@ double Experiment::endValue(int level, const Monitor& monitor, const Seed* seed)
                        ind.lastMessage());
   const double value = force ? pt.depth : pt.force;
   endValues_[level] = value;
+  if (keepEstimated_) estimated_ = std::move(site);
   return value;
 }
 
@@ -408,9 +409,26 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
   const IndentationSettings& ind = settings_.indentation;
   const bool force = ind.control == Control::Force;
   Seed seed;  // the last level's solution, to start the next one from
+  // The error estimate's site of level L + 1 becomes the next level's site (its rest state is
+  // solved once, not twice); whatever is left is let go when the run ends.
+  keepEstimated_ = true;
+  struct Release {
+    Experiment& e;
+    ~Release() {
+      e.keepEstimated_ = false;
+      e.estimated_.reset();
+    }
+  } release{*this};
   for (int level = mesh.level;; ++level) {
     try {
-      result.site = prepareSite(level, monitor, seed.mesh ? &seed : nullptr);
+      if (estimated_ && estimated_->level == level) {
+        result.site = std::move(estimated_);
+        result.site->indentation->returnToFirstContact();
+        result.site->indentation->setSchedule(ind);
+      } else {
+        estimated_.reset();
+        result.site = prepareSite(level, monitor, seed.mesh ? &seed : nullptr);
+      }
     } catch (const Cancelled&) {
       if (!result.site) throw;  // nothing done yet
       // Stopped while refining further: the last level's complete curve stands, as it was.

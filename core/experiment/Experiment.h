@@ -187,6 +187,10 @@ class Experiment {
   Vec3 restSite_ = Vec3::Zero();
   Vec3 axis_ = -Vec3::UnitZ();
   std::map<int, double> endValues_;
+  // The site of the last end value computed for run()'s error estimate, kept so that the next
+  // level of the automatic mesh starts from it instead of refining and solving it again.
+  std::unique_ptr<PreparedSite> estimated_;
+  bool keepEstimated_ = false;
   std::shared_ptr<const RefinedComplex> unrefined_;  // the tissue as a refinement of itself
 };
 

@@ -244,6 +244,17 @@ SolveReport Indentation::prepare(const Points* start) {
   return rep;
 }
 
+void Indentation::returnToFirstContact() {
+  if (!prepared_) throw std::logic_error("Indentation::prepare() must succeed first");
+  x_ = turgid_;
+  model_.setProbe({placement_.contactCenter, settings_.probeRadius});
+  depth_ = load_ = 0;
+  history_.clear();
+  remember();
+  forceMode_ = false;
+  message_.clear();
+}
+
 double Indentation::probeForce() const {
   return placement_.axis.dot(solver_->lastEvaluation().probeGradient);
 }

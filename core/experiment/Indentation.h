@@ -90,6 +90,9 @@ class Indentation {
   /// carried onto this one): Newton starts there, and falls back to continuation from rest.
   SolveReport prepare(const Points* start = nullptr);
   bool prepared() const { return prepared_; }
+  /// Back to the state prepare() left: the turgid rest state, the probe touching it, no load
+  /// history (no solve: a prepared site that was pushed, as for an error estimate, is reused).
+  void returnToFirstContact();
 
   /// Displacement control: moves the probe to `depth` and solves (warm start, sub-steps).
   CurvePoint goToDepth(double depth);

@@ -3,6 +3,8 @@
 // that agree with stepped ones, automatic refinement, cancel.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -134,6 +136,7 @@ TEST(Experiment, LevelsRefineAroundOneMaterialPointAndTheSeedChangesNothing) {
 TEST(Experiment, AutomaticMeshStopsAtTheFirstLevelWithinTolerance) {
   ExperimentSettings s = shallow();
   s.mesh.tolerance = 0.05;
+  s.mesh.level = 1;  // from the coarsest refined level, so that the search takes a few levels
   std::vector<std::string> stages;
   Monitor m;
   m.stage = [&](const std::string& what) { stages.push_back(what); };
@@ -154,6 +157,29 @@ TEST(Experiment, AutomaticMeshStopsAtTheFirstLevelWithinTolerance) {
   EXPECT_EQ(r.curve.size(), 5u);
   EXPECT_DOUBLE_EQ(r.error.value(), r.curve.back().force);
   EXPECT_EQ(points, 4 * (r.site->level - s.mesh.level + 1));  // every level's curve was seen
+  // Each level is refined and its rest state solved once: the site the error estimate of level
+  // L prepared at L + 1 is the one the curve of L + 1 runs on.
+  for (int level = s.mesh.level; level <= r.site->level + 1; ++level)
+    EXPECT_EQ(std::count(stages.begin(), stages.end(),
+                         "Refining the mesh around the site (level " + std::to_string(level) +
+                             ")…"),
+              1)
+        << "level " << level;
+  // That reused site, pushed to the end depth for the estimate and brought back to first
+  // contact, gives the curve a site prepared afresh gives (to the solver's tolerance).
+  if (r.site->level > s.mesh.level) {
+    ExperimentSettings again = s;
+    again.mesh.automatic = false;
+    again.mesh.estimateError = false;
+    again.mesh.level = r.site->level;
+    const ExperimentResult fresh = Experiment(smallMeristem(), again).run();
+    ASSERT_TRUE(fresh.complete) << fresh.message;
+    ASSERT_EQ(fresh.curve.size(), r.curve.size());
+    for (size_t i = 1; i < r.curve.size(); ++i)
+      EXPECT_NEAR(r.curve[i].force, fresh.curve[i].force, 1e-7 * std::abs(fresh.curve[i].force));
+  } else {
+    ADD_FAILURE() << "the automatic mesh stopped at its first level: no reused site to check";
+  }
   // A fixed level reports its error but does not refine further.
   s.mesh.automatic = false;
   s.mesh.level = 1;
