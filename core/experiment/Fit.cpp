@@ -93,6 +93,14 @@ class Problem {
       }
       c.turgid = ind.turgidState();
       const double offset = layout_.offset0 >= 0 ? theta[layout_.offset0 + i] : 0.0;
+      TurgidResponse turgid;  // shared by the curve's points: one factorisation, not one each
+      if (J) {
+        turgid = turgidResponse(ind);
+        if (!turgid.ok) {
+          message_ = "the tangent of the turgid state could not be factorised";
+          return false;
+        }
+      }
       for (size_t k = 0; k < c.depth.size(); ++k, ++row) {
         const double d = c.depth[k] + offset;
         if (monitor_.cancelled()) {
@@ -110,7 +118,7 @@ class Problem {
         }
         r[row] = pt.force - c.force[k];
         if (!J) continue;
-        const ForceSensitivity sens = forceSensitivity(ind);
+        const ForceSensitivity sens = forceSensitivity(ind, &turgid);
         if (!sens.ok) {
           message_ = "the tangent at depth " + std::to_string(d) + " um could not be factorised";
           return false;

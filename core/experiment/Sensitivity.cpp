@@ -42,14 +42,24 @@ Eigen::MatrixXd parameterLoads(Model& model, const Points& x) {
 
 }  // namespace
 
-ForceSensitivity forceSensitivity(Indentation& ind) {
+TurgidResponse turgidResponse(Indentation& ind) {
+  TurgidResponse r;
+  Model& model = ind.model();
+  const std::optional<Probe> probe = model.probe();
+  model.clearProbe();
+  r.ok = ind.solver().tangentSolve(ind.turgidState(),
+                                   parameterLoads(model, ind.turgidState()), r.u);
+  if (probe) model.setProbe(*probe);
+  return r;
+}
+
+ForceSensitivity forceSensitivity(Indentation& ind, const TurgidResponse* turgid) {
   ForceSensitivity s;
   Model& model = ind.model();
   const Points& x = ind.state();
   const Vec3 axis = ind.placement().axis;
   const int n3 = static_cast<int>(x.size());
   if (!model.probe()) return s;
-  const Probe probe = *model.probe();
 
   // At the indented state, with the probe's centre c held: the probe's coupling ∂²W/∂x∂c (an
   // assembly), then one factorisation of the tangent for the right-hand sides −∂g/∂θ and
@@ -88,11 +98,9 @@ ForceSensitivity forceSensitivity(Indentation& ind) {
   if (triQ < 0 || triS < 0 || !((c0 - q).norm() > 0)) return s;
   const Vec3 nq = (c0 - q).normalized();
   if (!(std::abs(nq.dot(axis)) > 1e-6)) return s;
-  model.clearProbe();
-  Eigen::MatrixXd ut;
-  const bool solved = ind.solver().tangentSolve(xt, parameterLoads(model, xt), ut);
-  model.setProbe(probe);
-  if (!solved) return s;
+  const TurgidResponse own = turgid ? TurgidResponse{} : turgidResponse(ind);
+  if (!(turgid ? *turgid : own).ok) return s;
+  const Eigen::MatrixXd& ut = (turgid ? *turgid : own).u;
   // The motion of a material point of triangle `tri` at the point p of the turgid state.
   auto motion = [&](int tri, const Vec3& p, int k) {
     const auto& t = model.complex().triangles[tri];

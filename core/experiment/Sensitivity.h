@@ -32,11 +32,21 @@ struct ForceSensitivity {
   double dDepth = 0;  // ∂F/∂depth: the tangent stiffness, µN/µm
 };
 
+/// How the turgid state moves with E, p and h (3V × 3, µm per MPa, MPa, µm): the same for every
+/// depth of one curve, so a fit computes it once per curve (one factorisation).
+struct TurgidResponse {
+  bool ok = false;
+  Eigen::MatrixXd u;
+};
+TurgidResponse turgidResponse(Indentation& indentation);
+
 /// The sensitivities of the force at the indentation's current depth (axis held; the contact
 /// point follows θ: the site is the material point `restSite` when the settings give one, else
 /// the surface point nearest to `site`, as Indentation places it). The model's pressures must be
 /// uniform (the turgor p of every cell). Two factorisations: the tangent at the state and at the
-/// turgid state.
-ForceSensitivity forceSensitivity(Indentation& indentation);
+/// turgid state (the latter skipped when `turgid`, from turgidResponse() on the same
+/// indentation, is given).
+ForceSensitivity forceSensitivity(Indentation& indentation,
+                                  const TurgidResponse* turgid = nullptr);
 
 }  // namespace tp

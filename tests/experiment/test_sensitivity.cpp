@@ -55,12 +55,24 @@ double forceAt(const Params& q, double depth, ForceSensitivity* sens = nullptr) 
   Indentation ind(model, settings(q.materialSite), so);
   const SolveReport rest = ind.prepare();
   EXPECT_TRUE(rest.converged) << rest.message;
+  // The turgid state's response taken before indenting, as a fit does once per curve.
+  const TurgidResponse turgid = sens ? turgidResponse(ind) : TurgidResponse{};
   CurvePoint pt;
   for (int k = 1; k <= 3; ++k) {
     pt = ind.goToDepth(depth * k / 3.0);
     EXPECT_TRUE(pt.converged) << ind.lastMessage();
   }
-  if (sens) *sens = forceSensitivity(ind);
+  if (sens) {
+    EXPECT_TRUE(turgid.ok);
+    *sens = forceSensitivity(ind, &turgid);
+    // The same as computing the turgid response at this point.
+    const ForceSensitivity own = forceSensitivity(ind);
+    EXPECT_TRUE(own.ok);
+    EXPECT_NEAR(own.dE, sens->dE, 1e-9 * std::abs(own.dE));
+    EXPECT_NEAR(own.dp, sens->dp, 1e-9 * std::abs(own.dp) + 1e-15);
+    EXPECT_NEAR(own.dh, sens->dh, 1e-9 * std::abs(own.dh));
+    EXPECT_EQ(own.dDepth, sens->dDepth);
+  }
   return pt.force;
 }
 

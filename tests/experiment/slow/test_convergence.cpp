@@ -223,7 +223,7 @@ Curves curvesAtTheSites(double pressure) {
     s.pressure = pressure;
     s.indentation.restSite = where;
     s.indentation.maxDepth = 0.5;
-    s.indentation.steps = 10;
+    s.indentation.steps = 5;
     s.mesh.automatic = false;
     s.mesh.level = 4;
     s.mesh.estimateError = false;
@@ -314,7 +314,7 @@ TEST(StudyFindings, PublishedBendingGivesTheCubicLikePlasmolysedCurve) {
   s.material.bending = BendingModel::Linear;
   s.indentation.restSite = sitesAtTheTop(*defaultMeristem(), 1.0).middle;
   s.indentation.maxDepth = 0.5;
-  s.indentation.steps = 10;
+  s.indentation.steps = 5;
   s.mesh.automatic = false;
   s.mesh.level = 4;
   s.mesh.estimateError = false;
