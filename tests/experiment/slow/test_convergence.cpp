@@ -223,7 +223,10 @@ Curves curvesAtTheSites(double pressure) {
     s.pressure = pressure;
     s.indentation.restSite = where;
     s.indentation.maxDepth = 0.5;
-    s.indentation.steps = 5;
+    // Turgid curves are straight: five points show it (R² 0.997-0.999) at half the cost of ten.
+    // The plasmolysed exponent over 0.1-0.5 µm needs the ten (1.52-1.53 from nine points; five
+    // give 1.502-1.506, too close to the 1.5 asked to tell anything).
+    s.indentation.steps = pressure > 0 ? 5 : 10;
     s.mesh.automatic = false;
     s.mesh.level = 4;
     s.mesh.estimateError = false;
@@ -314,7 +317,7 @@ TEST(StudyFindings, PublishedBendingGivesTheCubicLikePlasmolysedCurve) {
   s.material.bending = BendingModel::Linear;
   s.indentation.restSite = sitesAtTheTop(*defaultMeristem(), 1.0).middle;
   s.indentation.maxDepth = 0.5;
-  s.indentation.steps = 5;
+  s.indentation.steps = 10;
   s.mesh.automatic = false;
   s.mesh.level = 4;
   s.mesh.estimateError = false;
