@@ -21,6 +21,8 @@ struct NamedCurve {
   std::vector<CurvePoint> points;
   bool live = false;  // grown by dragging the probe (not a scheduled run)
   bool measured = false;  // read from an experiment's file: drawn as points, not simulated
+  // A fit's curve: measured − simulated force (µN) at each of its points (empty otherwise).
+  std::vector<double> residuals;
   // The mesh it was computed on and the estimated discretisation error of its deepest point.
   int meshLevel = -1;       // -1: not known
   double meshError = -1;    // relative; < 0: not estimated (yet)

@@ -180,6 +180,7 @@ QWidget* ParameterPanel::buildScheduleGroup() {
   run_->setObjectName("runButton");
   run_->setToolTip(tr("Run the whole schedule from depth 0 (Space)"));
   cancel_ = new QPushButton(QIcon(":/icons/cancel.svg"), tr("Cancel"));
+  cancel_->setObjectName("cancelButton");
   cancel_->setToolTip(tr("Stop after the current point (Esc)"));
   buttons->addWidget(run_);
   buttons->addWidget(cancel_);

@@ -203,8 +203,74 @@ void PlotPanel::redraw() {
     const double hi = r.upper > 0 ? r.upper * 1.08 : 1.0;
     a->setRange(std::min(0.0, r.lower), hi);
   }
+  showResiduals(nd);
   plot_->legend->setVisible(!curves_.empty());
   plot_->replot(QCustomPlot::rpQueuedReplot);
+}
+
+void PlotPanel::showResiduals(bool nd) {
+  bool any = false;
+  for (const NamedCurve& c : curves_) any = any || !c.residuals.empty();
+  QCPLayoutGrid* layout = plot_->plotLayout();
+  if (!any) {
+    if (residualRect_) {
+      layout->remove(residualRect_);  // deletes it, with its axes
+      layout->simplify();
+      residualRect_ = nullptr;
+    }
+    return;
+  }
+  if (!residualRect_) {
+    residualRect_ = new QCPAxisRect(plot_);
+    residualRect_->setObjectName("residualStrip");
+    layout->addElement(1, 0, residualRect_);
+    layout->setRowStretchFactor(0, 3);
+    layout->setRowStretchFactor(1, 1);
+    // The two plots' axes line up: one margin for both on the left and right.
+    auto* margins = new QCPMarginGroup(plot_);
+    plot_->axisRect()->setMarginGroup(QCP::msLeft | QCP::msRight, margins);
+    residualRect_->setMarginGroup(QCP::msLeft | QCP::msRight, margins);
+    // Depth: the same range as the curves above, whatever pans or zooms it.
+    QCPAxis* depth = residualRect_->axis(QCPAxis::atBottom);
+    connect(plot_->xAxis, qOverload<const QCPRange&>(&QCPAxis::rangeChanged), depth,
+            qOverload<const QCPRange&>(&QCPAxis::setRange));
+    residualRect_->setRangeDrag(Qt::Vertical);
+    residualRect_->setRangeZoom(Qt::Vertical);
+  }
+  QCPAxis* x = residualRect_->axis(QCPAxis::atBottom);
+  QCPAxis* y = residualRect_->axis(QCPAxis::atLeft);
+  // Zero, the perfect fit: a thin grey line across.
+  QCPGraph* zero = plot_->addGraph(x, y);
+  zero->setPen(QPen(QColor(120, 120, 120), 1.0));
+  zero->setData(QVector<double>{-1e6, 1e6}, QVector<double>{0.0, 0.0});
+  zero->removeFromLegend();
+  double extent = 0;
+  const int selected = list_->currentRow();
+  for (size_t i = 0; i < curves_.size(); ++i) {
+    const NamedCurve& c = curves_[i];
+    if (c.residuals.size() != c.points.size()) continue;
+    const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
+    QColor colour = colourOf(c, static_cast<int>(i));
+    if (selected >= 0 && static_cast<int>(i) != selected) colour.setAlpha(90);
+    QCPGraph* g = plot_->addGraph(x, y);
+    g->setName(tr("residuals of %1").arg(QString::fromStdString(c.name)));
+    g->setPen(QPen(colour, 1.2));
+    g->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssDisc, colour, 5));
+    g->removeFromLegend();
+    QVector<double> px, py;
+    for (size_t k = 0; k < c.points.size(); ++k)
+      if (std::isfinite(c.residuals[k])) {
+        px.push_back(c.points[k].depth * s.depth);
+        py.push_back(c.residuals[k] * s.force);
+        extent = std::max(extent, std::abs(py.back()));
+      }
+    g->setData(px, py);
+  }
+  x->setLabel(QString());
+  x->setRange(plot_->xAxis->range());
+  y->setLabel(nd ? tr("residual [F]") : tr("residual (µN)"));
+  // Symmetric about zero, so that a bias shows as an offset.
+  y->setRange(-1.15 * extent - 1e-12, 1.15 * extent + 1e-12);
 }
 
 bool PlotPanel::exportImage(const QString& path, int width, int height, QString* error) const {

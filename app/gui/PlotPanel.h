@@ -13,6 +13,7 @@
 
 class QCheckBox;
 class QCustomPlot;
+class QCPAxisRect;
 class QListWidget;
 
 namespace tp::gui {
@@ -49,8 +50,12 @@ class PlotPanel : public QWidget {
 
  private:
   void redraw();
+  /// The strip under the curves with a fit's residuals (measured − simulated), shown while a
+  /// curve has them; its depth axis follows the plot's.
+  void showResiduals(bool nondimensional);
 
   QCustomPlot* plot_;
+  QCPAxisRect* residualRect_ = nullptr;
   QListWidget* list_;
   QCheckBox* nondim_;
   std::vector<NamedCurve> curves_;

@@ -201,6 +201,10 @@ json sessionToJson(const SessionState& s) {
                   {"live", c.live},
                   {"measured", c.measured},
                   {"points", pointsToJson(c.points)}};
+    if (!c.residuals.empty()) {
+      curve["residuals_uN"] = json::array();
+      for (double r : c.residuals) curve["residuals_uN"].push_back(real(r));
+    }
     if (c.meshLevel >= 0) curve["mesh_level"] = c.meshLevel;
     if (c.meshError >= 0)
       curve["mesh_error"] = {{"relative", c.meshError},
@@ -247,6 +251,14 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
         nc.live = c.value("live", false);
         nc.measured = c.value("measured", false);
         nc.points = pointsFromJson(c.value("points", json::array()), w + ".points");
+        if (c.contains("residuals_uN")) {
+          const json& res = c.at("residuals_uN");
+          if (!res.is_array() || res.size() != nc.points.size())
+            throw std::runtime_error(w + ".residuals_uN must be an array of one number per point");
+          for (size_t k = 0; k < res.size(); ++k)
+            nc.residuals.push_back(
+                realFrom(res[k], w + ".residuals_uN[" + std::to_string(k) + "]"));
+        }
         nc.meshLevel = c.value("mesh_level", -1);
         if (c.contains("mesh_error")) {
           const json& e = c.at("mesh_error");

@@ -152,12 +152,14 @@ bool SimulationController::fitMeasuredCurves(bool E, bool p, bool h, bool offset
   }
   if (data.empty()) return refuse(tr("no measured curve: import one first (File ▸ Import measured curve)"));
   fitting_ = true;
+  emit runningChanged(true);  // the curve panel's Cancel stops the fit too
   worker_->requestFit(fs, data);
   return true;
 }
 
 void SimulationController::onFitFinished(const FitOutcome& outcome) {
   fitting_ = false;
+  emit runningChanged(false);
   if (outcome.ok && outcome.result) {
     const FitResult& r = *outcome.result;
     // The simulated curves at the fitted values, at the measured depths used.
@@ -181,9 +183,11 @@ void SimulationController::onFitFinished(const FitOutcome& outcome) {
       c.params.youngModulus = r.find("E")->value;
       c.params.pressure = r.find("p")->value;
       c.params.thickness = r.find("h")->value;
-      for (size_t k = 0; k < r.curves[i].depth.size(); ++k)
+      for (size_t k = 0; k < r.curves[i].depth.size(); ++k) {
         c.points.push_back(
             CurvePoint{r.curves[i].depth[k], r.curves[i].simulated[k], 0, 0.0, true, false});
+        c.residuals.push_back(r.curves[i].measured[k] - r.curves[i].simulated[k]);
+      }
       c.meshLevel = r.curves[i].meshLevel;
       c.colour = nextColour_++;
       curves_.push_back(std::move(c));

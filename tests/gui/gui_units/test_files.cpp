@@ -78,6 +78,9 @@ class FilesTest : public QObject {
     s.curves = {curve("site 1 · E 100 MPa", 60, false), curve("quote \" and, comma", 30, true)};
     s.curves[1].live = true;
     s.curves[0].measured = true;
+    // A fit's residuals, one per point (a NaN among them: a point that failed).
+    for (size_t k = 0; k < s.curves[1].points.size(); ++k)
+      s.curves[1].residuals.push_back(k == 1 ? std::nan("") : 1e-3 * double(k) - 0.0125);
     const SessionState r = sessionFromJson(sessionToJson(s), "test");
     QCOMPARE(r.tissuePath, s.tissuePath);
     QVERIFY(r.params == s.params);
@@ -93,7 +96,18 @@ class FilesTest : public QObject {
       QCOMPARE(r.curves[i].live, s.curves[i].live);
       QCOMPARE(r.curves[i].measured, s.curves[i].measured);
       QVERIFY(samePoints(r.curves[i].points, s.curves[i].points));
+      QCOMPARE(r.curves[i].residuals.size(), s.curves[i].residuals.size());
+      for (size_t k = 0; k < s.curves[i].residuals.size(); ++k)
+        QVERIFY(r.curves[i].residuals[k] == s.curves[i].residuals[k] ||
+                (std::isnan(r.curves[i].residuals[k]) && std::isnan(s.curves[i].residuals[k])));
     }
+    QVERIFY(r.curves[0].residuals.empty());
+    QVERIFY(std::isnan(r.curves[1].residuals[1]));
+    // Residuals that are not one per point are refused, naming the key.
+    nlohmann::json bad = sessionToJson(s);
+    bad["curves"][1]["residuals_uN"].erase(0);
+    QVERIFY(message(bad).find("curves[1].residuals_uN must be an array of one number per point") !=
+            std::string::npos);
     QVERIFY(!r.display);  // none given, none read
   }
 

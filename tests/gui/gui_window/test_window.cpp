@@ -701,20 +701,44 @@ class WindowTest : public QObject {
     QVERIFY2(std::abs(E - 100) < 1.0, qPrintable(QString("E = %1").arg(E)));
     QTRY_VERIFY_WITH_TIMEOUT(text.contains("E = "), 10000);
     QVERIFY2(text.contains("Hertz apparent modulus"), qPrintable(text));
-    QVERIFY(QString::fromStdString(c_->curves().back().name).startsWith("fit · E 10"));
+    const NamedCurve& fitted = c_->curves().back();
+    // Named by the fitted value ("fit · E 100 ± 0.02 MPa, …"; 99.99 as well as 100.01 is a
+    // good fit).
+    QVERIFY2(QString::fromStdString(fitted.name).startsWith("fit · E " + QString::number(E, 'g', 4) + " ± "),
+             fitted.name.c_str());
+    // Its residuals (measured − simulated at each point): about nothing, the data being the
+    // model's own at E = 100; drawn in a strip under the curves, one graph beside the zero line.
+    QCOMPARE(fitted.residuals.size(), fitted.points.size());
+    for (size_t k = 0; k < fitted.residuals.size(); ++k)
+      QVERIFY2(std::abs(fitted.residuals[k]) < 1e-3 * std::abs(measured.points.back().force),
+               qPrintable(QString("residual %1 at %2 um").arg(fitted.residuals[k]).arg(fitted.points[k].depth)));
+    QCustomPlot* plot = w_->plotPanel()->plot();
+    auto* strip = plot->findChild<QCPAxisRect*>("residualStrip");
+    QVERIFY(strip);
+    QCOMPARE(int(strip->graphs().size()), 2);
+    QCOMPARE(strip->graphs().at(1)->data()->size(), int(fitted.points.size()));
+    QCOMPARE(strip->axis(QCPAxis::atBottom)->range().upper, plot->xAxis->range().upper);
     waitIdle();
-    // Cancel stops a fit within an iteration and says so; no curve is added.
+    // The curve panel's Cancel stops a fit within an iteration and says so; no curve is added.
     const int curves = int(c_->curves().size());
     QString cancelled;
     answerNextMessageBox(QMessageBox::Ok, &cancelled);
+    auto* cancelButton = w_->findChild<QPushButton*>("cancelButton");
+    QVERIFY(cancelButton);
+    QVERIFY(!cancelButton->isEnabled());
     QVERIFY(c_->fitMeasuredCurves(true, true, false, false, &why));
+    QVERIFY(cancelButton->isEnabled());
     QTRY_VERIFY_WITH_TIMEOUT(c_->busy(), 10000);
-    c_->cancelRun();
+    cancelButton->click();
     QTRY_COMPARE_WITH_TIMEOUT(done.count(), 2, 30000);
     QVERIFY(!done.at(1).at(0).value<FitOutcome>().ok);
     QTRY_VERIFY_WITH_TIMEOUT(cancelled.contains("cancelled"), 10000);
     QCOMPARE(int(c_->curves().size()), curves);
     QVERIFY(!c_->fitting());
+    QVERIFY(!cancelButton->isEnabled());
+    // Without a fit's curve the strip goes.
+    c_->removeCurve(int(c_->curves().size()) - 1);
+    QTRY_VERIFY(!plot->findChild<QCPAxisRect*>("residualStrip"));
     waitIdle();
     p.autoMesh = true;
     p.youngModulus = 100;
