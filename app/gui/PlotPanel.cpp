@@ -234,6 +234,10 @@ void PlotPanel::showResiduals(bool nd) {
     QCPAxis* depth = residualRect_->axis(QCPAxis::atBottom);
     connect(plot_->xAxis, qOverload<const QCPRange&>(&QCPAxis::rangeChanged), depth,
             qOverload<const QCPRange&>(&QCPAxis::setRange));
+    // A strip a quarter of the plot high: three ticks are as many as its labels have room for.
+    residualRect_->axis(QCPAxis::atLeft)->ticker()->setTickStepStrategy(
+        QCPAxisTicker::tssMeetTickCount);
+    residualRect_->axis(QCPAxis::atLeft)->ticker()->setTickCount(3);
     residualRect_->setRangeDrag(Qt::Vertical);
     residualRect_->setRangeZoom(Qt::Vertical);
   }

@@ -189,6 +189,13 @@ void SimulationController::onFitFinished(const FitOutcome& outcome) {
         c.residuals.push_back(r.curves[i].measured[k] - r.curves[i].simulated[k]);
       }
       c.meshLevel = r.curves[i].meshLevel;
+      if (r.curves[i].meshError.estimated() && !r.curves[i].depth.empty()) {
+        // Of the force at the deepest point, on the mesh the fit chose at the starting values.
+        c.meshError = r.curves[i].meshError.relative;
+        c.meshErrorAt = r.curves[i].depth.back();
+        c.meshErrorForce = false;
+        c.meshErrorMethod = r.curves[i].meshError.method + " (at the fit's starting values)";
+      }
       c.colour = nextColour_++;
       curves_.push_back(std::move(c));
     }
