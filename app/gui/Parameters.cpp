@@ -1,6 +1,8 @@
 #include "Parameters.h"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,10 +21,7 @@ double number(const nlohmann::json& j, const char* key, double fallback) {
 
 int integer(const nlohmann::json& j, const char* key, int fallback) {
   if (!j.contains(key)) return fallback;
-  const auto& v = j.at(key);
-  if (!v.is_number_integer())
-    throw std::runtime_error(std::string("'") + key + "' must be an integer");
-  return v.get<int>();
+  return intFromJson(j.at(key), std::string("'") + key + "'");
 }
 
 bool boolean(const nlohmann::json& j, const char* key, bool fallback) {
@@ -106,6 +105,17 @@ nlohmann::json toJson(const Schedule& s) {
           {"unload", s.unload}};
 }
 
+int intFromJson(const nlohmann::json& v, const std::string& what) {
+  const bool fits =
+      (v.is_number_unsigned() &&
+       v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<int>::max())) ||
+      (v.is_number_integer() && !v.is_number_unsigned() &&
+       v.get<std::int64_t>() >= std::numeric_limits<int>::min() &&
+       v.get<std::int64_t>() <= std::numeric_limits<int>::max());
+  if (!fits) throw std::runtime_error(what + " must be an integer, not " + v.dump());
+  return static_cast<int>(v.get<std::int64_t>());
+}
+
 SimulationParams paramsFromJson(const nlohmann::json& j) {
   if (!j.is_object()) throw std::runtime_error("parameters must be a JSON object");
   SimulationParams p;
@@ -122,7 +132,7 @@ SimulationParams paramsFromJson(const nlohmann::json& j) {
       p.autoMesh = true;
     } else if (m.is_number_integer()) {
       p.autoMesh = false;
-      p.meshLevel = m.get<int>();
+      p.meshLevel = intFromJson(m, "'mesh'");
     } else {
       throw std::runtime_error("'mesh' must be \"auto\" or a level (an integer)");
     }

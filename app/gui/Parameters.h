@@ -52,6 +52,10 @@ nlohmann::json toJson(const Schedule& s);
 /// Missing keys keep their defaults; a key of the wrong type or an invalid value throws
 /// std::runtime_error naming it.
 SimulationParams paramsFromJson(const nlohmann::json& j);
+/// A JSON integer that fits an int; else throws std::runtime_error "<what> must be an integer"
+/// (a float such as 3e11, or 2^40, is refused rather than converted: out of range, converting
+/// it to int is undefined behaviour, found by fuzz_session).
+int intFromJson(const nlohmann::json& v, const std::string& what);
 Schedule scheduleFromJson(const nlohmann::json& j);
 
 }  // namespace tp::gui

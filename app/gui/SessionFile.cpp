@@ -63,7 +63,7 @@ std::vector<CurvePoint> pointsFromJson(const json& a, const std::string& what) {
     CurvePoint p;
     p.depth = realFrom(r[0], w + " depth");
     p.force = realFrom(r[1], w + " force");
-    p.iterations = r[2].get<int>();
+    p.iterations = intFromJson(r[2], w + " iterations");
     p.residual = realFrom(r[3], w + " residual");
     p.converged = r[4].get<bool>();
     p.unloading = r[5].get<bool>();
@@ -221,7 +221,8 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
     if (!j.is_object() || j.value("format", "") != kFormat)
       throw std::runtime_error(std::string("not a TissueProbe session (no \"format\": \"") +
                                kFormat + "\")");
-    if (j.value("version", 0) != 1)
+    if (!j.contains("version") || !j.at("version").is_number_integer() ||
+        intFromJson(j.at("version"), "'version'") != 1)
       throw std::runtime_error("unsupported session version " + j.value("version", json()).dump());
     SessionState s;
     if (j.contains("tissue")) {
@@ -235,7 +236,9 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
       for (size_t i = 0; i < j.at("sites").size(); ++i)
         s.sites.push_back(vecFrom(j.at("sites")[i], "sites[" + std::to_string(i) + "]"));
     }
-    s.currentSite = j.value("current_site", -1);
+    s.currentSite = j.contains("current_site")
+                        ? intFromJson(j.at("current_site"), "'current_site'")
+                        : -1;
     if (s.currentSite < -1 || s.currentSite >= static_cast<int>(s.sites.size()))
       throw std::runtime_error("'current_site' is not an index into 'sites'");
     if (j.contains("curves")) {
@@ -259,7 +262,8 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
             nc.residuals.push_back(
                 realFrom(res[k], w + ".residuals_uN[" + std::to_string(k) + "]"));
         }
-        nc.meshLevel = c.value("mesh_level", -1);
+        nc.meshLevel = c.contains("mesh_level") ? intFromJson(c.at("mesh_level"), w + ".mesh_level")
+                                                : -1;
         if (c.contains("mesh_error")) {
           const json& e = c.at("mesh_error");
           if (!e.is_object() || !e.value("relative", json()).is_number())

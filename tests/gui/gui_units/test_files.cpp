@@ -228,6 +228,26 @@ class FilesTest : public QObject {
                  .rfind("s.json: not valid JSON: ", 0),
              std::size_t(0));
     QVERIFY(textMessage("{\"format\": ").rfind("s.json: not valid JSON: ", 0) == 0);
+    // Found by fuzz_session under UBSan: a float where an integer is read (3e11 as the version)
+    // was converted to int, undefined behaviour out of range; it, and an integer too large for
+    // an int, are now refused naming the key.
+    j = good;
+    j["version"] = 3e11;
+    QVERIFY(message(j).find("unsupported session version") != std::string::npos);
+    j = good;
+    j["current_site"] = 1e12;
+    QVERIFY(message(j).find("'current_site' must be an integer, not 1000000000000.0") !=
+            std::string::npos);
+    j = good;
+    j["schedule"]["steps"] = std::int64_t(1) << 40;
+    QVERIFY(message(j).find("'steps' must be an integer, not 1099511627776") != std::string::npos);
+    j = good;
+    j["parameters"]["mesh"] = std::uint64_t(1) << 63;
+    QVERIFY(message(j).find("'mesh' must be an integer") != std::string::npos);
+    j = good;
+    j["curves"] = {{{"name", "c"}, {"points", {{0.1, 2, 4294967297, 0, true, false}}}}};
+    QVERIFY(message(j).find("curves[0].points[0] iterations must be an integer") !=
+            std::string::npos);
   }
 
   void severalCurvesInOneCsv() {
