@@ -32,8 +32,9 @@ struct ForceSensitivity {
   double dDepth = 0;  // ∂F/∂depth: the tangent stiffness, µN/µm
 };
 
-/// How the turgid state moves with E, p and h (3V × 3, µm per MPa, MPa, µm): the same for every
-/// depth of one curve, so a fit computes it once per curve (one factorisation).
+/// How the turgid state moves with E, p and h (3V × 3: µm per MPa of E, per MPa of p, per µm of
+/// h): the same for every depth of one curve, so a fit computes it once per curve (one
+/// factorisation).
 struct TurgidResponse {
   bool ok = false;
   Eigen::MatrixXd u;
