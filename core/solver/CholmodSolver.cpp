@@ -8,6 +8,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
+#include <mutex>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -29,11 +31,17 @@ int maxBlasThreads() {
   return n;
 }
 
+std::atomic<int> blasThreadLimit{1 << 20};
+
+// OpenBLAS's thread count is one for the whole process: solvers on several threads (the
+// stiffness map's workers) share it under a lock, and their owner caps it (limitBlasThreads).
 void setBlasThreads(int n) {
   using Fn = void (*)(int);
   static const Fn fn = reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  static std::mutex mutex;
   static int current = maxBlasThreads();  // captured before the first change
-  n = std::clamp(n, 1, maxBlasThreads());
+  n = std::clamp(n, 1, std::max(1, std::min(maxBlasThreads(), blasThreadLimit.load())));
+  std::lock_guard lock(mutex);
   if (fn && n != current) {
     fn(n);
     current = n;
@@ -41,6 +49,11 @@ void setBlasThreads(int n) {
 }
 
 }  // namespace
+
+void CholmodSolver::limitBlasThreads(int n) {
+  blasThreadLimit.store(std::max(1, n));
+  setBlasThreads(1);
+}
 
 struct CholmodSolver::Impl {
   cholmod_common common;
@@ -325,6 +338,11 @@ void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vector
 }
 
 bool CholmodSolver::factored() const { return impl_->factored; }
+
+double CholmodSolver::factorFlops() const {
+  const Impl& m = *impl_;
+  return m.L ? m.common.fl : 0.0;
+}
 
 double CholmodSolver::factorNonzeros() const {
   const Impl& m = *impl_;

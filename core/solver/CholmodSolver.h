@@ -23,6 +23,10 @@ class CholmodSolver {
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
 
+  /// Caps the BLAS threads of every factorisation in the process (OpenBLAS has one count for
+  /// all): 1 when several solvers run at once on their own threads.
+  static void limitBlasThreads(int n);
+
   /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
   void analyze(const SparsePattern& pattern);
   bool analyzed() const;
@@ -51,6 +55,8 @@ class CholmodSolver {
 
   /// True when a factorisation is held (solve() may be called).
   bool factored() const;
+  /// Floating-point operations of one numeric factorisation (CHOLMOD's count from the analysis).
+  double factorFlops() const;
   /// Nonzeros of the factor L (after a factorisation), for reports.
   double factorNonzeros() const;
   std::string lastMessage() const { return message_; }

@@ -74,12 +74,8 @@ bool StaticSolver::factorizeTangent(double& shift, double maxDiag, int& factoriz
   bool projected = false;
   for (int attempt = 0; attempt < 40; ++attempt) {
     ++factorizations;
-    const auto start = Clock::now();
     const auto st = chol_.factorize(ev_.hessian, shift);
-    if (st == CholmodSolver::Status::Ok) {
-      factorSeconds_ = seconds(start);
-      return true;
-    }
+    if (st == CholmodSolver::Status::Ok) return true;
     if (st == CholmodSolver::Status::NonFinite || st == CholmodSolver::Status::Failed) {
       why = chol_.lastMessage();
       return false;
@@ -135,7 +131,6 @@ bool StaticSolver::tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
   totals_.factorSeconds += seconds(start);
   if (!ok) return false;
   lastPcgIterations_ = 0;
-  lastPcgSeconds_ = 0;
   lastPcgFailed_ = false;
   // The pattern may carry a bending term's edge unknowns after the positions (Model::pattern()):
   // they take a zero right-hand side and their part of the solution is not used.
@@ -345,13 +340,21 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   coupling();
   bool solved = false;
   // A factor whose last CG solve failed, or took more than refactorAfterPcg iterations and
-  // more than a quarter of a factorisation's time, has drifted too far from the tangent: it is
-  // refactorised straight away. (On the default meristem a factorisation costs about as much as
-  // 40 CG iterations; on large meshes the triangular solves get relatively cheaper, so more CG
-  // iterations are worth doing before refactorising.)
+  // more than a quarter of a factorisation's cost, has drifted too far from the tangent: it is
+  // refactorised straight away. The costs are operation counts, not timings, so that the same
+  // input always takes the same path to the same bits (a map's shards and a single run agree
+  // byte for byte): a CG iteration (two single-precision triangular solves, memory-bound) takes
+  // as long as ~13 flops of the supernodal factorisation per nonzero of L (measured on the
+  // 2-core VM of bench/README.md: 1.1 ns per nonzero against 11.6 GFlop/s), so on the default
+  // meristem a factorisation costs about as much as 40 CG iterations; on large meshes the
+  // triangular solves get relatively cheaper, so more CG iterations are done before
+  // refactorising.
+  constexpr double kPcgIterationFlopsPerNonzero = 13.0;
   const bool factorDrifted =
-      lastPcgFailed_ || (lastPcgIterations_ > options_.refactorAfterPcg &&
-                         lastPcgSeconds_ > 0.25 * factorSeconds_);
+      lastPcgFailed_ ||
+      (lastPcgIterations_ > options_.refactorAfterPcg &&
+       lastPcgIterations_ * kPcgIterationFlopsPerNonzero * chol_.factorNonzeros() >
+           0.25 * chol_.factorFlops());
   if (options_.reuseFactorization && chol_.factored() && r.shift == 0 && !factorDrifted) {
     // Inexact Newton: solve just accurately enough for this step to reach the tolerance
     // (a tenth of the remaining reduction), never looser than pcgTolerance.
@@ -361,8 +364,8 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     const auto tick = Clock::now();
     solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its) &&
              (!r.fc || pcg(r.pattern, ev_.hessian, r.b, r.z2, eta, its));
-    lastPcgSeconds_ = seconds(tick);
-    totals_.pcgSeconds += lastPcgSeconds_;
+    totals_.pcgSeconds += seconds(tick);
+
     r.rep.pcgIterations += its;
     lastPcgIterations_ = its / (r.fc ? 2 : 1);
     lastPcgFailed_ = !solved;
@@ -378,7 +381,6 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     };
     if (!factorizeTangent(r.shift, r.maxDiag, r.rep.factorizations, refresh, why)) return false;
     lastPcgIterations_ = 0;
-    lastPcgSeconds_ = 0;
     lastPcgFailed_ = false;
     r.rep.maxShift = std::max(r.rep.maxShift, r.shift);
     chol_.solve(r.g, r.dx);

@@ -63,10 +63,8 @@ class StaticSolver final : public EquilibriumSolver {
   Points lastX_;           // where ev_ was evaluated (for timeFactorization)
   double lastShift_ = 0;
   int lastPcgIterations_ = 0;  // of the last CG solve on the lagged factor
-  double lastPcgSeconds_ = 0;  // its time
   bool lastPcgFailed_ = false;
   bool projectedLastSolve_ = false;  // the last solve needed the contact Hessian's positive part
-  double factorSeconds_ = 0;   // time of one numeric factorisation (the last one)
   SolverTotals totals_;
 };
 
