@@ -18,6 +18,8 @@ PACKAGES=(
   libqcustomplot-dev libqcustomplot2.1-qt6
   # tests and benchmarks; clang with libFuzzer and the sanitizer runtimes for the ASan+UBSan build and fuzzers
   libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev libomp-14-dev
+  # stiffness maps on a cluster: Slurm and MUNGE (the test starts a single-node cluster)
+  slurm-wlm munge
   # headless GUI testing and looking at the window
   xvfb xauth xdotool imagemagick
 )

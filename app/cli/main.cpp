@@ -1,6 +1,9 @@
 // tissueprobe-cli: command-line runs of the TissueProbe core.
 //   indent  one indentation curve (CSV, VTU)
 //   fit     wall modulus, turgor, thickness from measured curves (JSON report, CSV)
+//   map     a stiffness map: the indentation at many sites (parallel, sharded, resumable)
+//   sweep   the same over a grid of parameter values
+//   merge   the shards of a map or sweep into one set of outputs
 //   info    size, closedness and quality of a tissue file
 //   build   make a tissue file
 // Units everywhere: µm, MPa, µN.
@@ -20,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <thread>
 #include <string>
 #include <unistd.h>
 
@@ -27,6 +31,7 @@
 #include "experiment/Experiment.h"
 #include "experiment/Fit.h"
 #include "experiment/Indentation.h"
+#include "experiment/Map.h"
 #include "experiment/Stress.h"
 #include "io/AtomicFile.h"
 #include "io/Centroids.h"
@@ -655,6 +660,175 @@ int runFit(const FitArgs& a) {
   return 0;
 }
 
+struct MapArgs {
+  IndentArgs model;
+  std::string sites = "cells";
+  std::optional<double> gridSpacing;
+  std::string siteList;
+  std::vector<std::string> vary;
+  std::string out;
+  int jobs = 0;
+  std::string shard;
+};
+
+// "I/N" → (I, N) with 0 ≤ I < N.
+std::pair<int, int> parseShard(const std::string& text) {
+  const auto slash = text.find('/');
+  int i = -1, n = 0;
+  try {
+    size_t u1 = 0, u2 = 0;
+    if (slash == std::string::npos) throw std::invalid_argument(text);
+    i = std::stoi(text.substr(0, slash), &u1);
+    n = std::stoi(text.substr(slash + 1), &u2);
+    if (u1 != slash || u2 != text.size() - slash - 1) throw std::invalid_argument(text);
+  } catch (const std::exception&) {
+    throw UsageError("--shard: expected I/N (shard I of N, 0 <= I < N), got '" + text + "'");
+  }
+  if (n < 1 || i < 0 || i >= n)
+    throw UsageError("--shard: expected I/N with 0 <= I < N, got '" + text + "'");
+  return {i, n};
+}
+
+std::string hostName() {
+  char buf[256] = {};
+  if (gethostname(buf, sizeof buf - 1) != 0) return "unknown host";
+  return buf;
+}
+
+int runMapCommand(const MapArgs& a, bool sweep) {
+  if (a.model.depth && a.model.force) throw UsageError("give --depth or --force, not both");
+  const std::string meshPath = a.model.mesh.empty() ? defaultTissuePath() : a.model.mesh;
+  if (a.out.empty()) throw UsageError("--out: the results folder is required");
+  auto [shard, shards] = a.shard.empty() ? std::pair<int, int>{0, 1} : parseShard(a.shard);
+  MapPlan plan;
+  plan.settings = experimentSettings(a.model);
+  for (const auto& v : a.vary) {
+    try {
+      plan.vary.push_back(parseVariation(v));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
+  if (sweep && plan.vary.empty())
+    throw UsageError("sweep: give at least one --vary NAME=A:B:N or NAME=V1,V2,...");
+  auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
+  plan.tissue = std::filesystem::absolute(meshPath).lexically_normal().string();
+  plan.tissueDigest = tissueDigest(*cc);
+  {
+    std::stringstream ss(a.sites);
+    std::string word;
+    while (std::getline(ss, word, ',')) {
+      SiteKind kind;
+      try {
+        kind = parseSiteKind(word);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--sites: ") + e.what());
+      }
+      std::vector<MapSite> more;
+      if (kind == SiteKind::CellMiddle) more = cellMiddleSites(*cc);
+      if (kind == SiteKind::Junction) more = junctionSites(*cc);
+      if (kind == SiteKind::Grid) {
+        try {
+          more = gridSites(*cc, a.gridSpacing.value_or(meanCellSize(*cc)));
+        } catch (const std::invalid_argument& e) {
+          throw UsageError(std::string("--grid-spacing: ") + e.what());
+        }
+      }
+      if (kind == SiteKind::Listed) {
+        if (a.siteList.empty()) throw UsageError("--sites list needs --site-list FILE");
+        more = readSiteList(a.siteList);
+        try {
+          checkSitesNearSurface(*cc, more, a.siteList);
+        } catch (const std::invalid_argument& e) {
+          throw UsageError(e.what());
+        }
+      }
+      plan.sites.insert(plan.sites.end(), more.begin(), more.end());
+    }
+  }
+  if (plan.sites.empty())
+    throw UsageError("--sites " + a.sites + ": the tissue has no such site");
+  MapRunOptions options;
+  options.outDir = a.out;
+  options.shard = shard;
+  options.shards = shards;
+  options.jobs = a.jobs > 0 ? a.jobs : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.cancel = &interrupted;
+  options.host = hostName();
+  const bool terminal = !a.model.quiet && ::isatty(STDERR_FILENO);
+  const bool lines = !a.model.quiet && !terminal && a.model.progress;
+  bool shown = false;
+  if (terminal || lines)
+    options.progress = [&](const MapProgress& p) {
+      const double rate = p.seconds > 0 ? p.done / p.seconds : 0;
+      const double left = rate > 0 ? (p.todo - p.done) / rate : 0;
+      std::fprintf(stderr, "%s[%7.1f s] %d/%d task(s) done%s, %.3g/s, about %.0f s left%s",
+                   terminal ? "\r\033[K" : "", p.seconds, p.done, p.todo,
+                   p.failed ? (" (" + std::to_string(p.failed) + " failed)").c_str() : "", rate,
+                   left, terminal ? "" : "\n");
+      std::fflush(stderr);
+      shown = terminal;
+    };
+  if (!a.model.quiet)
+    std::fprintf(stderr, "%s of %s: %zu site(s) x %d parameter set(s) = %d task(s); shard %d/%d, "
+                         "%d worker(s), results in %s\n",
+                 sweep ? "sweep" : "map", meshPath.c_str(), plan.sites.size(),
+                 plan.parameterSets(), plan.taskCount(), shard, shards, options.jobs,
+                 a.out.c_str());
+  MapRunSummary r;
+  {
+    InterruptScope scope;
+    r = runMap(cc, plan, options);
+  }
+  if (shown) std::fprintf(stderr, "\n");
+  if (!a.model.quiet) {
+    std::fprintf(stderr, "%d task(s) of this shard: %d done now (%d not converged), %d done before\n",
+                 r.shardTasks, r.done, r.failed, r.skipped);
+    for (const auto& w : r.written) std::fprintf(stderr, "wrote %s\n", w.c_str());
+    if (!r.complete && !r.cancelled)
+      std::fprintf(stderr, "the other shards' tasks are not in %s yet: when every shard is done, "
+                           "gather them with: tissueprobe-cli merge DIR... --out DIR\n",
+                   a.out.c_str());
+  }
+  if (r.cancelled) {
+    std::fprintf(stderr, "interrupted: the %d task(s) done are kept in %s; run the same command "
+                         "again to go on\n", r.done, a.out.c_str());
+    return kExitInterrupted;
+  }
+  const auto all = readResults(a.out, plan);
+  int failed = 0;
+  for (int t = shard; t < plan.taskCount(); t += shards)
+    if (all[t].task >= 0 && !all[t].converged()) ++failed;
+  if (failed) {
+    std::fprintf(stderr, "error: %d task(s) of this shard did not converge (status and message "
+                         "in the table and in %s/results)\n", failed, a.out.c_str());
+    return 3;
+  }
+  return 0;
+}
+
+int runMerge(const std::vector<std::string>& dirs, const std::string& out, const std::string& mesh,
+             bool quiet) {
+  std::shared_ptr<const CellComplex> cc;
+  if (!mesh.empty()) cc = std::make_shared<const CellComplex>(loadTissue(mesh));
+  const MergeSummary m = mergeMaps(dirs, out, cc);
+  if (!m.missing.empty()) {
+    std::string list;
+    for (size_t k = 0; k < m.missing.size() && k < 20; ++k)
+      list += (k ? ", " : "") + std::to_string(m.missing[k]);
+    if (m.missing.size() > 20) list += ", ...";
+    std::fprintf(stderr, "error: %zu of %d task(s) are in none of the folders (%s): run their "
+                         "shards again with --out %s (done tasks are skipped), then merge\n",
+                 m.missing.size(), m.tasks, list.c_str(), out.c_str());
+    return 3;
+  }
+  if (!quiet) {
+    std::fprintf(stderr, "merged %d task(s) from %zu folder(s)\n", m.found, dirs.size());
+    for (const auto& w : m.written) std::fprintf(stderr, "wrote %s\n", w.c_str());
+  }
+  return 0;
+}
+
 // The tissue, wall, turgor, probe and site options shared by indent and fit.
 void addModelOptions(CLI::App* cmd, IndentArgs& a) {
   cmd->add_option("--mesh", a.mesh, "Tissue file (PLY); default: the shipped default tissue")
@@ -775,6 +949,66 @@ int main(int argc, char** argv) {
                   "Write the curves as used, simulated at the fit, as CSV "
                   "(curve,depth_um,measured_uN,simulated_uN,residual_uN)");
 
+  MapArgs ma, sa;
+  CLI::App* mapCmds[2] = {nullptr, nullptr};
+  for (int k = 0; k < 2; ++k) {
+    MapArgs& m = k == 0 ? ma : sa;
+    m.model.steps = 5;
+    auto* cmd = mapCmds[k] = app.add_subcommand(
+        k == 0 ? "map" : "sweep",
+        k == 0 ? "A stiffness map: the indentation at many sites of the tissue (cell middles, "
+                 "anticlinal junctions, a grid, a list), in parallel, in shards, resumable"
+               : "A parameter sweep: the indentation over a grid of parameter values (and "
+                 "sites), in parallel, in shards, resumable");
+    addModelOptions(cmd, m.model);
+    cmd->remove_option(cmd->get_option("--site"));
+    auto* d = cmd->add_option("--depth", m.model.depth,
+                              "Displacement control: final depth from first contact, um "
+                              "(default 0.5)");
+    auto* f = cmd->add_option("--force", m.model.force, "Force control: final force, uN");
+    d->excludes(f);
+    cmd->add_option("--steps", m.model.steps, "Loading steps per site")->capture_default_str();
+    cmd->add_option("--sites", m.sites,
+                    "Which sites: cells (the middle of every cell's outer wall), junctions "
+                    "(every anticlinal junction on the surface), grid (a square grid seen from "
+                    "above), list (--site-list); comma-separated for several")
+        ->capture_default_str();
+    cmd->add_option("--grid-spacing", m.gridSpacing,
+                    "Spacing of --sites grid, um (default: the mean cell size)");
+    cmd->add_option("--site-list", m.siteList, "Sites x,y,z in um, one per line (--sites list)")
+        ->check(CLI::ExistingFile);
+    if (k == 1)
+      cmd->add_option("--vary", m.vary,
+                      "A parameter and its values: NAME=A:B:N (N values from A to B) or "
+                      "NAME=V1,V2,...; NAME is E, nu, h, p or probe-radius; repeat for a grid")
+          ->take_all()
+          ->required();
+    cmd->add_option("--out", m.out,
+                    "Results folder: plan.json, results/ (one file per finished task), map.csv "
+                    "and (maps) map-surface.vtu when every task is done, run.log")
+        ->required();
+    cmd->add_option("--jobs", m.jobs, "Worker threads (default: one per core)");
+    cmd->add_option("--shard", m.shard,
+                    "Run only shard I of N (tasks with index = I mod N), e.g. "
+                    "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
+    cmd->add_flag("--progress", m.model.progress,
+                  "A progress line per task on stderr also when it is not a terminal");
+  }
+
+  std::vector<std::string> mergeDirs;
+  std::string mergeOut, mergeMesh;
+  bool mergeQuiet = false;
+  auto* merge = app.add_subcommand(
+      "merge", "Gather the results folders of the shards of one map or sweep into one folder, "
+               "with the same table and surface as a single run");
+  merge->add_option("dirs", mergeDirs, "The shards' results folders")->required()
+      ->check(CLI::ExistingDirectory);
+  merge->add_option("--out", mergeOut, "The merged results folder")->required();
+  merge->add_option("--mesh", mergeMesh,
+                    "The tissue file, when it is not at the path recorded in plan.json")
+      ->check(CLI::ExistingFile);
+  merge->add_flag("--quiet", mergeQuiet, "Print nothing but errors");
+
   std::string infoPath;
   auto* info = app.add_subcommand("info", "Cells, walls, vertices, triangles, closedness, volume "
                                           "and quality of a tissue file");
@@ -819,6 +1053,9 @@ int main(int argc, char** argv) {
   try {
     if (*indent) return runIndent(ia);
     if (*fit) return runFit(fa);
+    if (*mapCmds[0]) return runMapCommand(ma, false);
+    if (*mapCmds[1]) return runMapCommand(sa, true);
+    if (*merge) return runMerge(mergeDirs, mergeOut, mergeMesh, mergeQuiet);
     if (*info) return runInfo(infoPath);
     if (*build) return runBuild(ba);
   } catch (const UsageError& e) {

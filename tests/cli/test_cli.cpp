@@ -453,3 +453,75 @@ TEST(Cli, FitReadsJpkForceCurvesAndNamesTheirContactPoint) {
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("the contact height 100.000000 um is outside the heights"));
 }
+
+TEST(Cli, MapShardsMergeAndRefuseBadValuesByName) {
+  // Issue 14: `map` over listed sites in two shards, merged, gives the single run's table; bad
+  // values are refused before any work, naming the option and value.
+  namespace fs = std::filesystem;
+  const fs::path dir = tmp("map");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream list(dir / "sites.csv");
+    list << "x,y,z\n0,0,16.5\n4,0,16\n0,-4,16\n";
+    std::ofstream far(dir / "far.csv");
+    far << "0,0,16.5\n0,0,40\n";
+  }
+  const std::string common = "map --mesh " + smallTissue() + " --refine 0 --depth 0.2 --steps 2 " +
+                             "--sites list --site-list " + (dir / "sites.csv").string();
+  const CliRun single = cli(common + " --jobs 2 --out " + (dir / "single").string());
+  ASSERT_EQ(single.status, 0) << single.output;
+  EXPECT_THAT(single.output, HasSubstr("3 site(s) x 1 parameter set(s) = 3 task(s)"));
+  for (int i = 0; i < 2; ++i) {
+    const CliRun s = cli(common + " --shard " + std::to_string(i) + "/2 --out " +
+                         (dir / ("shard" + std::to_string(i))).string());
+    ASSERT_EQ(s.status, 0) << s.output;
+    EXPECT_THAT(s.output, HasSubstr("tissueprobe-cli merge"));
+  }
+  const CliRun half = cli("merge " + (dir / "shard0").string() + " --out " + (dir / "half").string());
+  EXPECT_EQ(half.status, 3) << half.output;
+  EXPECT_THAT(half.output, HasSubstr("1 of 3 task(s) are in none of the folders (1)"));
+  const CliRun merged = cli("merge " + (dir / "shard0").string() + " " + (dir / "shard1").string() +
+                            " --out " + (dir / "merged").string());
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string table = read(dir / "single" / "map.csv");
+  EXPECT_EQ(read(dir / "merged" / "map.csv"), table);
+  EXPECT_THAT(table, HasSubstr("\n2,2,list,line 4,0,-4,16,"));
+  EXPECT_THAT(table, HasSubstr(",converged,"));
+  // Run again: everything is done already.
+  const CliRun again = cli(common + " --out " + (dir / "single").string());
+  EXPECT_EQ(again.status, 0) << again.output;
+  EXPECT_THAT(again.output, HasSubstr("0 done now (0 not converged), 3 done before"));
+  // Another E into the same folder: refused, naming what differs.
+  const CliRun other = cli(common + " --E 50 --out " + (dir / "single").string());
+  EXPECT_EQ(other.status, 2) << other.output;
+  EXPECT_THAT(other.output, HasSubstr("'settings' differs from this run's"));
+  for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
+           {" --shard 2/2", "--shard: expected I/N with 0 <= I < N, got '2/2'"},
+           {" --shard x", "--shard: expected I/N"},
+       }) {
+    const CliRun r = cli(common + args + " --out " + (dir / "bad").string());
+    EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr(says)) << args;
+  }
+  const CliRun middles = cli("map --mesh " + smallTissue() + " --sites cells,middles --out " +
+                             (dir / "bad").string());
+  EXPECT_EQ(middles.status, 2);
+  EXPECT_THAT(middles.output, HasSubstr("--sites: unknown kind of sites 'middles'"));
+  const CliRun far = cli("map --mesh " + smallTissue() + " --sites list --site-list " +
+                         (dir / "far.csv").string() + " --out " + (dir / "bad").string());
+  EXPECT_EQ(far.status, 2);
+  EXPECT_THAT(far.output, HasSubstr("far.csv line 2: the site (0, 0, 40) um is "));
+  const CliRun noList = cli("map --mesh " + smallTissue() + " --sites list --out " + (dir / "bad").string());
+  EXPECT_EQ(noList.status, 2);
+  EXPECT_THAT(noList.output, HasSubstr("--sites list needs --site-list FILE"));
+  const CliRun sweep = cli("sweep --mesh " + smallTissue() + " --vary nu=0.3,0.6 --out " +
+                           (dir / "bad").string());
+  EXPECT_EQ(sweep.status, 2);
+  EXPECT_THAT(sweep.output, HasSubstr("--vary 'nu=0.3,0.6'"));
+  EXPECT_FALSE(fs::exists(dir / "bad" / "plan.json"));
+}
