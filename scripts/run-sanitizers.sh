@@ -32,6 +32,9 @@ heavy+='|Cli\.DeepIndentation|Cli\.ReferenceSolverGives|Cli\.RefinementAtTheSite
 # The fits take ~60 s each under the sanitizers (45 times Release): one full fit
 # (Fit.TurgidAndPlasmolysed...) and every sensitivity test still run here.
 heavy+='|Fit\.NoisyCurves|Fit\.ATurgidCurveAlone|Cli\.FitReadsBackTheModulus'
+# Maps: 30-130 s each under the sanitizers (35 times Release); the map code (workers, result
+# files, resume, cancel, refusals, the table) is still reached by MapRun.Another* and MapRun.ASweep*.
+heavy+='|MapRun\.WorkersShards|MapRun\.EachTask|Cli\.CtrlCStopsAMap|Cli\.MapShards'
 echo "== sanitizers: the tests under ASan + UBSan (but the slow and the heavy ones)"
 (cd build-asan && ctest --output-on-failure --timeout 900 -j "$(nproc)" -LE slow -E "$heavy")
 

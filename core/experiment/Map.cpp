@@ -514,8 +514,16 @@ ExperimentSettings MapPlan::taskSettings(int task) const {
   ExperimentSettings s = settings;
   const auto v = values(task);
   for (size_t k = 0; k < vary.size(); ++k) applyVariation(s, vary[k].name, v[k]);
-  s.indentation.site = site(task).point;
-  s.indentation.restSite.reset();
+  // Generated sites are material points of the rest surface (a cell's middle stays its middle
+  // when turgor swells the tissue, a junction stays on the junction); listed ones are places, as
+  // an AFM user measures them on the turgid tissue: the nearest turgid surface point is indented.
+  if (site(task).kind == SiteKind::Listed) {
+    s.indentation.site = site(task).point;
+    s.indentation.restSite.reset();
+  } else {
+    s.indentation.restSite = site(task).point;
+    s.indentation.site.reset();
+  }
   return s;
 }
 

@@ -30,8 +30,10 @@ std::string toString(SiteKind kind);
 /// Throws std::invalid_argument naming the word and the choices.
 SiteKind parseSiteKind(const std::string& word);
 
-/// A site of a map: a point of the tissue's rest outer surface (the nearest outer-surface point
-/// of the turgid tissue to it is indented, along the inward normal unless an axis is given).
+/// A site of a map, indented along the inward normal unless an axis is given: a generated site
+/// (cells, junctions, grid) is a material point of the rest outer surface, indented where it is
+/// in the turgid state; a listed site is a place, and the nearest turgid surface point to it is
+/// indented.
 struct MapSite {
   SiteKind kind = SiteKind::Listed;
   std::string label;           // "cell 12", "cells 3|17", "grid 2,-1", "line 4"
@@ -83,7 +85,7 @@ struct MapPlan {
   int taskCount() const { return parameterSets() * static_cast<int>(sites.size()); }
   const MapSite& site(int task) const;
   std::vector<double> values(int task) const;   // the varied values of the task, in vary order
-  ExperimentSettings taskSettings(int task) const;  // with the site and the varied values
+  ExperimentSettings taskSettings(int task) const;  // with the site (see MapSite) and values
 
   nlohmann::json toJson() const;
   /// Reads what the table and the surface need (tissue, digest, vary, sites); the settings

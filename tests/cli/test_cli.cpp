@@ -525,3 +525,62 @@ TEST(Cli, MapShardsMergeAndRefuseBadValuesByName) {
   EXPECT_THAT(sweep.output, HasSubstr("--vary 'nu=0.3,0.6'"));
   EXPECT_FALSE(fs::exists(dir / "bad" / "plan.json"));
 }
+
+TEST(Cli, CtrlCStopsAMapAndTheSameCommandGoesOn) {
+  // Issue 14: Ctrl-C during a map stops the workers, keeps every finished site (exit 130), and
+  // the same command again does only the rest; the table is then that of an uninterrupted run.
+  namespace fs = std::filesystem;
+  const fs::path dir = tmp("map-interrupt");
+  fs::remove_all(dir);
+  const std::string args = "map --mesh " + smallTissue() +
+                           " --refine 0 --depth 0.2 --steps 3 --sites grid --grid-spacing 8 --jobs 1 --progress";
+  const std::string cmd = std::string("exec ") + TP_CLI + " " + args + " --out " +
+                          (dir / "map").string() + " 2>&1";
+  int out[2];
+  ASSERT_EQ(pipe(out), 0);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    close(out[1]);
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out[1]);
+  std::string output;
+  std::array<char, 4096> buf{};
+  bool signalled = false;
+  for (ssize_t n; (n = read(out[0], buf.data(), buf.size())) > 0;) {
+    output.append(buf.data(), static_cast<size_t>(n));
+    if (!signalled && output.find("] 3/") != std::string::npos) {  // the third site done
+      signalled = true;
+      kill(pid, SIGINT);
+    }
+  }
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(signalled) << output;
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+  EXPECT_THAT(output, HasSubstr("run the same command again to go on"));
+  int kept = 0;
+  for (const auto& e : fs::directory_iterator(dir / "map" / "results")) {
+    EXPECT_EQ(e.path().extension(), ".json") << "left behind: " << e.path();
+    ++kept;
+  }
+  EXPECT_GE(kept, 3);
+  EXPECT_FALSE(fs::exists(dir / "map" / "map.csv"));
+  const CliRun rest = cli(args + " --out " + (dir / "map").string());
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  EXPECT_THAT(rest.output, HasSubstr("done before"));
+  EXPECT_THAT(rest.output, HasSubstr(", " + std::to_string(kept) + " done before"));
+  const CliRun whole = cli(args + " --out " + (dir / "whole").string());
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(read(dir / "map" / "map.csv"), read(dir / "whole" / "map.csv"));
+}
