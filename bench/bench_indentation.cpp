@@ -8,10 +8,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cstdlib>
 #include <vector>
 
 #include "BenchCommon.h"
+#include "experiment/Map.h"
 #include "io/Centroids.h"
 #include "solver/CholmodSolver.h"
 #include "solver/Newton.h"
@@ -195,8 +197,44 @@ void BM_ReferenceCurveWithPredictor(benchmark::State& state) {
   curve(state, SolverKind::ImplicitEulerCG, true, BendingModel::Hinge);
 }
 
+// A stiffness map (core/experiment/Map.h) of the cell middles nearest the top of the default
+// meristem, at the converged default (automatic mesh to 3 %, 5 steps to 0.5 µm), with 1 or 2
+// workers: sites per second, to extrapolate to the ~170 outer cells (issue 14's < 5 minutes).
+void BM_MapCellMiddles(benchmark::State& state) {
+  const auto cc = defaultMeristem();
+  MapPlan plan;
+  plan.tissue = "default meristem";
+  plan.tissueDigest = tissueDigest(*cc);
+  plan.settings = defaultSettings();
+  plan.settings.indentation.steps = 5;
+  auto sites = cellMiddleSites(*cc);
+  std::sort(sites.begin(), sites.end(),
+            [](const MapSite& a, const MapSite& b) { return a.point.z() > b.point.z(); });
+  sites.resize(std::min<size_t>(sites.size(), 6));
+  plan.sites = sites;
+  MapRunOptions options;
+  options.jobs = static_cast<int>(state.range(0));
+  int done = 0, failed = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    options.outDir = (std::filesystem::temp_directory_path() / "tp-bench-map").string();
+    std::filesystem::remove_all(options.outDir);
+    const auto t0 = std::chrono::steady_clock::now();
+    const MapRunSummary r = runMap(cc, plan, options);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    done += r.done;
+    failed += r.failed;
+  }
+  std::filesystem::remove_all(options.outDir);
+  state.counters["sites"] = done;
+  state.counters["failed"] = failed;
+  state.counters["sites_per_s"] = seconds > 0 ? done / seconds : 0;
+  state.counters["outer_cells"] = static_cast<double>(cellMiddleSites(*cc).size());
+}
+
 }  // namespace
 
+BENCHMARK(BM_MapCellMiddles)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(BM_PickSite)->Iterations(5)->Unit(benchmark::kSecond);
 BENCHMARK(BM_PickSiteRealFlower)->Iterations(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_Assembly)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
