@@ -748,6 +748,11 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   }
   if (plan.sites.empty())
     throw UsageError("--sites " + a.sites + ": the tissue has no such site");
+  try {
+    plan.checkSize();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   MapRunOptions options;
   options.outDir = a.out;
   options.shard = shard;

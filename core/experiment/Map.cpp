@@ -167,6 +167,17 @@ std::vector<std::string> writeOutputs(const std::string& dir, const CellComplex&
   const std::string table = (fs::path(dir) / "map.csv").string();
   files.emplace_back(table, [&](std::ostream& o) { o << mapTable(plan, results); });
   std::vector<std::string> written{table};
+  // The same as JSON, at full precision: the plan and every task's result in task order.
+  const std::string all = (fs::path(dir) / "map.json").string();
+  files.emplace_back(all, [&](std::ostream& o) {
+    json j;
+    j["plan"] = plan.toJson();
+    json rows = json::array();
+    for (const auto& r : results) rows.push_back(r.toJson());
+    j["results"] = rows;
+    o << j.dump(1) << "\n";
+  });
+  written.push_back(all);
   if (plan.vary.empty()) {
     const std::string surface = (fs::path(dir) / "map-surface.vtu").string();
     files.emplace_back(surface, [&](std::ostream& o) { o << mapSurfaceVtu(cc, plan, results); });
@@ -488,6 +499,14 @@ void applyVariation(ExperimentSettings& s, const std::string& name, double value
 // ---------------------------------------------------------------------------------------------
 // The plan
 
+void MapPlan::checkSize() const {
+  double n = static_cast<double>(sites.size());
+  for (const auto& v : vary) n *= static_cast<double>(v.values.size());
+  if (n > kMaxTasks)
+    throw std::invalid_argument("the plan has " + number(n) + " tasks (sites x parameter sets), " +
+                                "more than " + number(kMaxTasks) + ": vary fewer values or sites");
+}
+
 int MapPlan::parameterSets() const {
   int n = 1;
   for (const auto& v : vary) n *= static_cast<int>(v.values.size());
@@ -533,7 +552,7 @@ json MapPlan::toJson() const {
   j["version"] = 1;
   j["tissue"] = tissue;
   j["tissue_digest"] = tissueDigest;
-  j["settings"] = settingsToJson(settings);
+  j["settings"] = settingsJson.is_null() ? settingsToJson(settings) : settingsJson;
   json vj = json::array();
   for (const auto& v : vary) vj.push_back({{"name", v.name}, {"values", v.values}});
   j["vary"] = vj;
@@ -588,8 +607,11 @@ MapPlan MapPlan::fromJson(const json& j, const std::string& file) {
     site.point = vecAt(s, "point", file);
     p.sites.push_back(site);
   }
-  if (static_cast<double>(p.parameterSets()) * p.sites.size() > 1e8)
-    throw std::runtime_error(file + ": more than 1e8 tasks");
+  try {
+    p.checkSize();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file + ": " + e.what());
+  }
   return p;
 }
 
@@ -847,6 +869,7 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
     throw std::invalid_argument("shard " + std::to_string(options.shard) + "/" +
                                 std::to_string(options.shards) + " does not exist (0 <= I < N)");
   if (plan.sites.empty()) throw std::invalid_argument("the map has no site");
+  plan.checkSize();
   const json planJson = plan.toJson();
   ensurePlan(options.outDir, planJson);
   const int ompBefore = omp_get_max_threads();

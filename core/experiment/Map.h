@@ -5,6 +5,7 @@
 //   plan.json              what is computed: tissue, settings, sites, varied values (no timings)
 //   results/task-NNNNNN.json  one finished task each, written atomically when it is done
 //   map.csv                the table of every task in task order, once all are done
+//   map.json               the plan and every task's result at full precision, likewise
 //   map-surface.vtu        the outer surface coloured by the map (maps only), once all are done
 //   run.log                timings and host names, appended by every run (never compared)
 // A task is one (parameter set, site); tasks are numbered parameter set by parameter set, sites
@@ -81,6 +82,10 @@ struct MapPlan {
   std::vector<Variation> vary;  // empty for a map
   std::vector<MapSite> sites;
 
+  /// At most this many tasks (so that task numbers fit an int with room to spare).
+  static constexpr double kMaxTasks = 1e8;
+  /// Throws std::invalid_argument when sites × parameter sets exceeds kMaxTasks.
+  void checkSize() const;
   int parameterSets() const;
   int taskCount() const { return parameterSets() * static_cast<int>(sites.size()); }
   const MapSite& site(int task) const;
@@ -91,7 +96,7 @@ struct MapPlan {
   /// Reads what the table and the surface need (tissue, digest, vary, sites); the settings
   /// stay as JSON (`settingsJson`). Throws std::runtime_error naming `file` and the key.
   static MapPlan fromJson(const nlohmann::json& j, const std::string& file);
-  nlohmann::json settingsJson;  // as read (fromJson) or written (toJson)
+  nlohmann::json settingsJson;  // as read (fromJson); when set, toJson writes it for `settings`
 };
 
 /// A digest of a tissue's counts and rest geometry ("V 1234, T 5678, C 512, fnv 0123abcd…").

@@ -212,6 +212,17 @@ TEST(MapPlan, TasksRunSiteFastestThenTheLastVariation) {
   EXPECT_EQ(back.toJson()["sites"], plan.toJson()["sites"]);
   EXPECT_EQ(back.vary[1].values, plan.vary[1].values);
   EXPECT_EQ(back.settingsJson, plan.toJson()["settings"]);
+  // Too many tasks: refused by count, before any product can overflow an int.
+  MapPlan huge = plan;
+  for (int k = 0; k < 5; ++k) huge.vary.push_back(parseVariation("h=0.1:0.3:1000"));
+  EXPECT_THROW(huge.checkSize(), std::invalid_argument);
+  try {
+    MapPlan::fromJson(huge.toJson(), "huge.json");
+    ADD_FAILURE() << "accepted 1.2e16 tasks";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.json: the plan has 1.2e+16 tasks"), std::string::npos)
+        << e.what();
+  }
   nlohmann::json bad = plan.toJson();
   bad["sites"][1]["kind"] = "middles";
   try {
@@ -280,7 +291,7 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   EXPECT_TRUE(r.complete);
   EXPECT_EQ(r.done, 4);
   EXPECT_EQ(r.failed, 0);
-  ASSERT_EQ(r.written.size(), 2u);  // the table and the surface
+  ASSERT_EQ(r.written.size(), 3u);  // the table, its JSON and the surface
   const auto results = readResults(o.outDir, plan);
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
@@ -357,6 +368,13 @@ TEST(MapRun, WorkersShardsMergeAndResumeGiveTheSameTable) {
   EXPECT_EQ(full.found, 4);
   EXPECT_EQ(table(merged), reference);
   EXPECT_EQ(readTextFile(merged + "/map-surface.vtu", "surface"), surface);
+  EXPECT_EQ(readTextFile(merged + "/map.json", "json"), readTextFile(one.outDir + "/map.json", "json"));
+  // The JSON holds the results at full precision.
+  const auto j = nlohmann::json::parse(readTextFile(merged + "/map.json", "json"));
+  const auto results = readResults(one.outDir, plan);
+  ASSERT_EQ(j["results"].size(), 4u);
+  EXPECT_EQ(j["results"][2]["force"].get<double>(), results[2].force);
+  EXPECT_EQ(j["plan"], plan.toJson());
 
   // Resumed: a folder with task 1 done runs only the other three.
   MapRunOptions resumed = one;
@@ -420,7 +438,7 @@ TEST(MapRun, ASweepRunsEveryParameterSetAndItsForceGrowsWithE) {
   o.outDir = freshDir("sweep");
   const MapRunSummary r = runMap(cc, plan, o);
   ASSERT_TRUE(r.complete);
-  ASSERT_EQ(r.written.size(), 1u);  // a table; no surface for a sweep
+  ASSERT_EQ(r.written.size(), 2u);  // the table and its JSON; no surface for a sweep
   const auto results = readResults(o.outDir, plan);
   // Without turgor every energy term is linear in E: twice E, twice the force.
   EXPECT_NEAR(results[1].force / results[0].force, 2.0, 1e-6);

@@ -38,6 +38,7 @@ done
 "$cli" merge array/shard-0 array/shard-1 array/shard-2 array/shard-3 --out array/map --quiet
 cmp single/map.csv array/map/map.csv
 cmp single/map-surface.vtu array/map/map-surface.vtu
+cmp single/map.json array/map/map.json
 echo "slurm_map: 4 shards under Slurm merged: the same table and surface as one process"
 
 # A pre-empted shard: two of its results gone; resubmitted alone, it redoes those two only.
