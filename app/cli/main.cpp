@@ -25,6 +25,7 @@
 #include <sstream>
 #include <thread>
 #include <string>
+#include <sched.h>
 #include <unistd.h>
 
 #include "experiment/Analysis.h"
@@ -689,6 +690,15 @@ std::pair<int, int> parseShard(const std::string& text) {
   return {i, n};
 }
 
+// The CPUs this process may run on (its affinity mask: what Slurm, a cgroup or taskset gave it),
+// at least 1.
+int usableCpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 std::string hostName() {
   char buf[256] = {};
   if (gethostname(buf, sizeof buf - 1) != 0) return "unknown host";
@@ -757,7 +767,7 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   options.outDir = a.out;
   options.shard = shard;
   options.shards = shards;
-  options.jobs = a.jobs > 0 ? a.jobs : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.jobs = a.jobs > 0 ? a.jobs : usableCpus();
   options.cancel = &interrupted;
   options.host = hostName();
   const bool terminal = !a.model.quiet && ::isatty(STDERR_FILENO);
@@ -992,7 +1002,9 @@ int main(int argc, char** argv) {
                     "Results folder: plan.json, results/ (one file per finished task), map.csv "
                     "and (maps) map-surface.vtu when every task is done, run.log")
         ->required();
-    cmd->add_option("--jobs", m.jobs, "Worker threads (default: one per core)");
+    cmd->add_option("--jobs", m.jobs,
+                    "Worker threads (default: one per CPU this process may use, e.g. Slurm's "
+                    "allocation)");
     cmd->add_option("--shard", m.shard,
                     "Run only shard I of N (tasks with index = I mod N), e.g. "
                     "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT");
