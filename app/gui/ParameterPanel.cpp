@@ -186,6 +186,7 @@ QWidget* ParameterPanel::buildScheduleGroup() {
   buttons->addWidget(cancel_);
   form->addRow(buttons);
   progress_ = new QProgressBar;
+  progress_->setObjectName("runProgressBar");
   progress_->setTextVisible(true);
   form->addRow(progress_);
   connect(run_, &QPushButton::clicked, this, &ParameterPanel::runRequested);

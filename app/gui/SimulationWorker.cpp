@@ -575,6 +575,9 @@ void SimulationWorker::handle(const Fit& r) {
     return;
   }
   emit busy(tr("Fitting…"));
+  // A fit's length is not known in advance (Levenberg-Marquardt stops when it converges): the
+  // progress bar runs as busy (range 0-0) and is full when the fit is done, empty if not.
+  emit runProgress(0, 0);
   Monitor monitor;
   monitor.cancel = &stop_;
   monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
@@ -587,6 +590,7 @@ void SimulationWorker::handle(const Fit& r) {
   } catch (const std::exception& e) {
     out.message = QString::fromUtf8(e.what());
   }
+  emit runProgress(out.ok ? 1 : 0, 1);
   emit fitFinished(out);
 }
 

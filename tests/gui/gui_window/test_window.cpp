@@ -8,6 +8,7 @@
 #include <QDoubleSpinBox>
 #include <QListWidget>
 #include <QMessageBox>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
 #include <QDir>
@@ -693,8 +694,14 @@ class WindowTest : public QObject {
     QSignalSpy done(c_, &SimulationController::fitFinished);
     QString text;
     answerNextMessageBox(QMessageBox::Ok, &text);  // the report the window shows
+    auto* bar = w_->findChild<QProgressBar*>("runProgressBar");
+    QVERIFY(bar);
     QVERIFY(c_->fitMeasuredCurves(true, false, false, false, &why));
+    // While it fits the bar runs as busy (its length is not known), then it is full.
+    QTRY_COMPARE_WITH_TIMEOUT(bar->maximum(), 0, 10000);
     QTRY_COMPARE_WITH_TIMEOUT(done.count(), 1, 120000);
+    QTRY_COMPARE_WITH_TIMEOUT(bar->maximum(), 1, 10000);
+    QCOMPARE(bar->value(), 1);
     const auto outcome = done.first().at(0).value<FitOutcome>();
     QVERIFY2(outcome.ok, qPrintable(outcome.message));
     const double E = outcome.result->find("E")->value;
@@ -732,6 +739,7 @@ class WindowTest : public QObject {
     cancelButton->click();
     QTRY_COMPARE_WITH_TIMEOUT(done.count(), 2, 30000);
     QVERIFY(!done.at(1).at(0).value<FitOutcome>().ok);
+    QTRY_COMPARE_WITH_TIMEOUT(bar->value(), 0, 10000);  // cancelled: empty, not full
     QTRY_VERIFY_WITH_TIMEOUT(cancelled.contains("cancelled"), 10000);
     QCOMPARE(int(c_->curves().size()), curves);
     QVERIFY(!c_->fitting());
