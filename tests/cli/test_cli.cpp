@@ -52,6 +52,46 @@ const std::string& smallTissue() {
   return path;
 }
 
+
+// Runs `command` (a shell command line, its output to a pipe) and sends SIGINT once its output
+// contains `trigger`, however fast the build (the sanitizer build is ten times slower).
+struct InterruptedRun {
+  bool signalled = false;
+  bool exited = false;
+  int status = -1;      // exit status when exited
+  std::string output;
+};
+
+InterruptedRun runAndInterrupt(const std::string& command, const std::string& trigger) {
+  InterruptedRun r;
+  const std::string cmd = "exec " + command + " 2>&1";
+  int out[2];
+  if (pipe(out) != 0) return r;
+  const pid_t pid = fork();
+  if (pid < 0) return r;
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    close(out[1]);
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out[1]);
+  std::array<char, 4096> buf{};
+  for (ssize_t n; (n = read(out[0], buf.data(), buf.size())) > 0;) {
+    r.output.append(buf.data(), static_cast<size_t>(n));
+    if (!r.signalled && r.output.find(trigger) != std::string::npos) {
+      r.signalled = true;
+      kill(pid, SIGINT);
+    }
+  }
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  r.exited = WIFEXITED(status);
+  if (r.exited) r.status = WEXITSTATUS(status);
+  return r;
+}
 }  // namespace
 
 TEST(Cli, HelpNamesEveryOptionWithUnits) {
@@ -327,38 +367,15 @@ TEST(Cli, CtrlCStopsTheRunAndKeepsThePointsDone) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string csv = (dir / "curve.csv").string();
-  const std::string cmd = std::string("exec ") + TP_CLI + " indent --mesh " + smallTissue() +
-                          " --depth 0.5 --steps 2000 --refine 2 --progress --csv " + csv + " 2>&1";
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    dup2(out[1], STDOUT_FILENO);
-    close(out[0]);
-    close(out[1]);
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out[1]);
-  std::string output;
-  std::array<char, 4096> buf{};
-  bool signalled = false;
-  // Stopped once the third point is reported (--progress prints a line per point), however fast
-  // the build (the sanitizer build is ten times slower).
-  for (ssize_t n; (n = read(out[0], buf.data(), buf.size())) > 0;) {
-    output.append(buf.data(), static_cast<size_t>(n));
-    if (!signalled && output.find("point 3/2000") != std::string::npos) {
-      signalled = true;
-      kill(pid, SIGINT);
-    }
-  }
-  close(out[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(signalled) << output;
-  ASSERT_TRUE(WIFEXITED(status)) << output;
-  EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+  // Stopped once the third point is reported (--progress prints a line per point).
+  const InterruptedRun run = runAndInterrupt(
+      std::string(TP_CLI) + " indent --mesh " + smallTissue() +
+          " --depth 0.5 --steps 2000 --refine 2 --progress --csv " + csv,
+      "point 3/2000");
+  const std::string& output = run.output;
+  ASSERT_TRUE(run.signalled) << output;
+  ASSERT_TRUE(run.exited) << output;
+  EXPECT_EQ(run.status, 130) << output;
   EXPECT_THAT(output, HasSubstr("interrupted: cancelled; the "));
   const auto curve = tp::readCurveCsv(csv);
   ASSERT_GE(curve.size(), 3u);
@@ -534,36 +551,13 @@ TEST(Cli, CtrlCStopsAMapAndTheSameCommandGoesOn) {
   fs::remove_all(dir);
   const std::string args = "map --mesh " + smallTissue() +
                            " --refine 0 --depth 0.2 --steps 3 --sites grid --grid-spacing 8 --jobs 1 --progress";
-  const std::string cmd = std::string("exec ") + TP_CLI + " " + args + " --out " +
-                          (dir / "map").string() + " 2>&1";
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    dup2(out[1], STDOUT_FILENO);
-    close(out[0]);
-    close(out[1]);
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out[1]);
-  std::string output;
-  std::array<char, 4096> buf{};
-  bool signalled = false;
-  for (ssize_t n; (n = read(out[0], buf.data(), buf.size())) > 0;) {
-    output.append(buf.data(), static_cast<size_t>(n));
-    if (!signalled && output.find("] 3/") != std::string::npos) {  // the third site done
-      signalled = true;
-      kill(pid, SIGINT);
-    }
-  }
-  close(out[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(signalled) << output;
-  ASSERT_TRUE(WIFEXITED(status)) << output;
-  EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+  const InterruptedRun run =
+      runAndInterrupt(std::string(TP_CLI) + " " + args + " --out " + (dir / "map").string(),
+                      "] 3/");  // the third site done
+  const std::string& output = run.output;
+  ASSERT_TRUE(run.signalled) << output;
+  ASSERT_TRUE(run.exited) << output;
+  EXPECT_EQ(run.status, 130) << output;
   EXPECT_THAT(output, HasSubstr("run the same command again to go on"));
   int kept = 0;
   for (const auto& e : fs::directory_iterator(dir / "map" / "results")) {

@@ -13,24 +13,14 @@
 #include "experiment/Stress.h"
 
 #include <map>
+#include "support/SmallMeristem.h"
 #include "tissue/Meristem.h"
 
 using namespace tp;
 
 namespace {
 
-std::shared_ptr<const CellComplex> smallMeristem() {
-  static const auto cc = [] {
-    MeristemParams p;
-    p.cells = 60;
-    p.shape.radius = 15;
-    p.shape.capHeight = 12;
-    p.shape.stemHeight = 4;
-    p.seed = 3;
-    return std::make_shared<const CellComplex>(generateMeristem(p));
-  }();
-  return cc;
-}
+using test::smallMeristem;
 
 ExperimentSettings shallow() {
   ExperimentSettings s;

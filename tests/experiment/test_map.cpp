@@ -12,6 +12,7 @@
 
 #include "experiment/Map.h"
 #include "io/TextFile.h"
+#include "support/SmallMeristem.h"
 #include "tissue/Meristem.h"
 #include "tissue/Shapes.h"
 
@@ -20,18 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::shared_ptr<const CellComplex> smallMeristem() {
-  static const auto cc = [] {
-    MeristemParams p;
-    p.cells = 60;
-    p.shape.radius = 15;
-    p.shape.capHeight = 12;
-    p.shape.stemHeight = 4;
-    p.seed = 3;
-    return std::make_shared<const CellComplex>(generateMeristem(p));
-  }();
-  return cc;
-}
+using test::smallMeristem;
 
 std::string freshDir(const std::string& name) {
   const std::string d = testing::TempDir() + "/map_" + name;
