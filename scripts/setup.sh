@@ -14,7 +14,7 @@ PACKAGES=(
   # fitting measured curves: Ceres Solver (Levenberg-Marquardt)
   libceres-dev
   # GUI: Qt 6 widgets/OpenGL/SVG/print support, QCustomPlot for Qt 6, GL headers, Mesa software GL
-  qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev libqt6svg6-dev libgl-dev libgl1-mesa-dri
+  qt6-base-dev qt6-base-dev-tools libqt6opengl6-dev qt6-svg-dev libgl-dev libgl1-mesa-dri
   libqcustomplot-dev libqcustomplot2.1-qt6
   # tests and benchmarks; clang with libFuzzer and the sanitizer runtimes for the ASan+UBSan build and fuzzers
   libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev libomp-14-dev
