@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -725,35 +726,18 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   plan.tissue = std::filesystem::absolute(meshPath).lexically_normal().string();
   plan.tissueDigest = tissueDigest(*cc);
   {
+    std::vector<SiteKind> kinds;
     std::stringstream ss(a.sites);
     std::string word;
-    while (std::getline(ss, word, ',')) {
-      SiteKind kind;
-      try {
-        kind = parseSiteKind(word);
-      } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--sites: ") + e.what());
-      }
-      std::vector<MapSite> more;
-      if (kind == SiteKind::CellMiddle) more = cellMiddleSites(*cc);
-      if (kind == SiteKind::Junction) more = junctionSites(*cc);
-      if (kind == SiteKind::Grid) {
-        try {
-          more = gridSites(*cc, a.gridSpacing.value_or(meanCellSize(*cc)));
-        } catch (const std::invalid_argument& e) {
-          throw UsageError(std::string("--grid-spacing: ") + e.what());
-        }
-      }
-      if (kind == SiteKind::Listed) {
-        if (a.siteList.empty()) throw UsageError("--sites list needs --site-list FILE");
-        more = readSiteList(a.siteList);
-        try {
-          checkSitesNearSurface(*cc, more, a.siteList);
-        } catch (const std::invalid_argument& e) {
-          throw UsageError(e.what());
-        }
-      }
-      plan.sites.insert(plan.sites.end(), more.begin(), more.end());
+    try {
+      while (std::getline(ss, word, ',')) kinds.push_back(parseSiteKind(word));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--sites: ") + e.what());
+    }
+    try {
+      plan.sites = mapSites(*cc, kinds, a.gridSpacing.value_or(std::numeric_limits<double>::quiet_NaN()), a.siteList);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
     }
   }
   if (plan.sites.empty())

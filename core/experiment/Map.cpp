@@ -430,6 +430,36 @@ void checkSitesNearSurface(const CellComplex& cc, const std::vector<MapSite>& si
   }
 }
 
+std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>& kinds,
+                              double gridSpacing, const std::string& siteList) {
+  std::vector<MapSite> sites;
+  for (SiteKind kind : kinds) {
+    std::vector<MapSite> more;
+    switch (kind) {
+      case SiteKind::CellMiddle:
+        more = cellMiddleSites(cc);
+        break;
+      case SiteKind::Junction:
+        more = junctionSites(cc);
+        break;
+      case SiteKind::Grid:
+        try {
+          more = gridSites(cc, std::isnan(gridSpacing) ? meanCellSize(cc) : gridSpacing);
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument(std::string("--grid-spacing: ") + e.what());
+        }
+        break;
+      case SiteKind::Listed:
+        if (siteList.empty()) throw std::invalid_argument("--sites list needs --site-list FILE");
+        more = readSiteList(siteList);
+        checkSitesNearSurface(cc, more, siteList);
+        break;
+    }
+    sites.insert(sites.end(), more.begin(), more.end());
+  }
+  return sites;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Sweeps
 
@@ -645,7 +675,8 @@ json TaskResult::toJson() const {
           {"level", level},
           {"mesh_error", meshError},
           {"status", status},
-          {"message", message}};
+          {"message", message},
+          {"curve", curve}};
 }
 
 TaskResult TaskResult::fromJson(const json& j, const std::string& file) {
@@ -662,6 +693,15 @@ TaskResult TaskResult::fromJson(const json& j, const std::string& file) {
   r.meshError = numberOrNaN(j, "mesh_error", file);
   r.status = stringAt(j, "status", file);
   r.message = stringAt(j, "message", file);
+  if (j.contains("curve")) {  // results of earlier versions have none
+    const json& c = j["curve"];
+    bool ok = c.is_array();
+    for (size_t k = 0; ok && k < c.size(); ++k) {
+      ok = c[k].is_array() && c[k].size() == 2 && c[k][0].is_number() && c[k][1].is_number();
+      if (ok) r.curve.push_back({c[k][0].get<double>(), c[k][1].get<double>()});
+    }
+    if (!ok) throw std::runtime_error(file + ": 'curve' is not a list of [depth, force] pairs");
+  }
   if (r.status != "converged" && r.status != "mesh error above tolerance" && r.status != "failed")
     throw std::runtime_error(file + ": unknown status '" + r.status + "'");
   return r;
@@ -689,6 +729,7 @@ TaskResult taskResult(int task, const ExperimentSettings& settings, const Experi
   out.tangent = end.depth > before.depth ? (end.force - before.force) / (end.depth - before.depth)
                                          : std::numeric_limits<double>::quiet_NaN();
   std::vector<CurvePoint> loading(r.curve.begin(), r.curve.begin() + ind.steps + 1);
+  for (const CurvePoint& p : loading) out.curve.push_back({p.depth, p.force});
   out.hertz = hertzApparentModulus(loading, ind.probeRadius, settings.material.poissonRatio);
   out.meshError = r.error.estimated() ? r.error.relative : -1.0;
   const bool within = !settings.mesh.automatic || r.withinTolerance;
@@ -718,6 +759,56 @@ std::string mapTable(const MapPlan& plan, const std::vector<TaskResult>& results
   return o.str();
 }
 
+MapField::MapField(const MapPlan& plan, const std::vector<TaskResult>& results) {
+  for (const auto& r : results) {
+    if (r.task < 0 || !r.converged()) continue;
+    const MapSite& site = plan.site(r.task);
+    const bool place = site.kind == SiteKind::Listed && r.contact.allFinite();
+    sites_.push_back({place ? r.contact : site.point, r.task, {r.secant, r.force, r.hertz}});
+  }
+  // The interpolation radius: twice the median nearest-neighbour distance between sites.
+  std::vector<double> nearest;
+  for (size_t a = 0; a < sites_.size(); ++a) {
+    double d = std::numeric_limits<double>::infinity();
+    for (size_t b = 0; b < sites_.size(); ++b)
+      if (a != b) d = std::min(d, (sites_[a].x - sites_[b].x).norm());
+    if (std::isfinite(d)) nearest.push_back(d);
+  }
+  if (!nearest.empty()) {
+    std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+    radius_ = 2.0 * nearest[nearest.size() / 2];
+  }
+}
+
+int MapField::nearestTask(const Vec3& x, double* distance) const {
+  int best = -1;
+  double d2 = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a < sites_.size(); ++a)
+    if (const double e = (sites_[a].x - x).squaredNorm(); e < d2) d2 = e, best = static_cast<int>(a);
+  if (distance) *distance = std::sqrt(d2);
+  return best < 0 ? -1 : sites_[best].task;
+}
+
+double MapField::nearest(const Vec3& x, Value v) const {
+  int best = -1;
+  double d2 = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a < sites_.size(); ++a)
+    if (const double e = (sites_[a].x - x).squaredNorm(); e < d2) d2 = e, best = static_cast<int>(a);
+  return best < 0 ? std::numeric_limits<double>::quiet_NaN() : sites_[best].value[v];
+}
+
+double MapField::interpolated(const Vec3& x, Value v) const {
+  double w = 0, sum = 0;
+  for (const auto& s : sites_) {
+    const double d = (s.x - x).norm();
+    if (d > radius_) continue;
+    if (d < 1e-9) return s.value[v];    // on a site: its value
+    const double wi = 1.0 / (d * d);    // Shepard 1968, power 2
+    w += wi, sum += wi * s.value[v];
+  }
+  return w > 0 ? sum / w : std::numeric_limits<double>::quiet_NaN();
+}
+
 std::string mapSurfaceVtu(const CellComplex& cc, const MapPlan& plan,
                           const std::vector<TaskResult>& results) {
   // The outer surface as a complex of its own (the same vertices; only outer triangles).
@@ -725,85 +816,38 @@ std::string mapSurfaceVtu(const CellComplex& cc, const MapPlan& plan,
   surface.rest = cc.rest;
   surface.fixed = cc.fixed;
   surface.cellLabels = cc.cellLabels;
-  std::vector<int> triangles;
-  for (int t = 0; t < cc.triangleCount(); ++t)
-    if (cc.isOuterTriangle(t)) triangles.push_back(t);
   surface.walls = cc.walls;
-  for (int t : triangles) {
-    surface.triangles.push_back(cc.triangles[t]);
-    surface.triangleWall.push_back(cc.triangleWall[t]);
-  }
-  // The converged sites: where (the contact point, else the site) and what.
-  struct Point {
-    Vec3 x;
-    double stiffness, force, hertz;
-  };
-  std::vector<Point> pts;
-  for (const auto& r : results)
-    if (r.task >= 0 && r.converged()) {
-      const Vec3 x = r.contact.allFinite() ? r.contact : plan.site(r.task).point;
-      pts.push_back({x, r.secant, r.force, r.hertz});
+  std::vector<char> onSurface(cc.vertexCount(), 0);
+  for (int t = 0; t < cc.triangleCount(); ++t)
+    if (cc.isOuterTriangle(t)) {
+      surface.triangles.push_back(cc.triangles[t]);
+      surface.triangleWall.push_back(cc.triangleWall[t]);
+      for (int i = 0; i < 3; ++i) onSurface[cc.triangles[t][i]] = 1;
     }
+  const MapField field(plan, results);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const int V = cc.vertexCount(), T = static_cast<int>(triangles.size());
-  std::vector<double> siteStiff(T, nan), siteForce(T, nan), siteHertz(T, nan);
-  std::vector<double> iStiff(V, nan), iForce(V, nan), iHertz(V, nan);
-  if (!pts.empty()) {
-    // The interpolation radius: twice the median nearest-neighbour distance between sites.
-    std::vector<double> nearest;
-    for (size_t a = 0; a < pts.size(); ++a) {
-      double d = std::numeric_limits<double>::infinity();
-      for (size_t b = 0; b < pts.size(); ++b)
-        if (a != b) d = std::min(d, (pts[a].x - pts[b].x).norm());
-      if (std::isfinite(d)) nearest.push_back(d);
-    }
-    double radius = std::numeric_limits<double>::infinity();
-    if (!nearest.empty()) {
-      std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
-      radius = 2.0 * nearest[nearest.size() / 2];
-    }
-    for (int k = 0; k < T; ++k) {
-      const auto& tri = surface.triangles[k];
-      const Vec3 c = (cc.rest.col(tri[0]) + cc.rest.col(tri[1]) + cc.rest.col(tri[2])) / 3.0;
-      size_t best = 0;
-      for (size_t a = 1; a < pts.size(); ++a)
-        if ((pts[a].x - c).squaredNorm() < (pts[best].x - c).squaredNorm()) best = a;
-      siteStiff[k] = pts[best].stiffness;
-      siteForce[k] = pts[best].force;
-      siteHertz[k] = pts[best].hertz;
-    }
-    std::vector<char> onSurface(V, 0);
-    for (const auto& tri : surface.triangles)
-      for (int i = 0; i < 3; ++i) onSurface[tri[i]] = 1;
-    for (int v = 0; v < V; ++v) {
-      if (!onSurface[v]) continue;
-      double w = 0, s = 0, f = 0, e = 0;
-      bool exact = false;
-      for (const auto& p : pts) {
-        const double d = (p.x - cc.rest.col(v)).norm();
-        if (d > radius) continue;
-        if (d < 1e-9) {  // on a site: its value
-          s = p.stiffness, f = p.force, e = p.hertz, w = 1, exact = true;
-          break;
-        }
-        const double wi = 1.0 / (d * d);  // Shepard 1968, power 2
-        w += wi, s += wi * p.stiffness, f += wi * p.force, e += wi * p.hertz;
+  const int V = cc.vertexCount(), T = surface.triangleCount();
+  std::vector<std::vector<double>> site(MapField::kValueCount, std::vector<double>(T, nan));
+  std::vector<std::vector<double>> interp(MapField::kValueCount, std::vector<double>(V, nan));
+  for (int q = 0; q < MapField::kValueCount; ++q) {
+    const auto value = MapField::Value(q);
+    if (!field.empty())
+      for (int k = 0; k < T; ++k) {
+        const auto& tri = surface.triangles[k];
+        const Vec3 c = (cc.rest.col(tri[0]) + cc.rest.col(tri[1]) + cc.rest.col(tri[2])) / 3.0;
+        site[q][k] = field.nearest(c, value);
       }
-      if (w > 0) {
-        iStiff[v] = exact ? s : s / w;
-        iForce[v] = exact ? f : f / w;
-        iHertz[v] = exact ? e : e / w;
-      }
-    }
+    for (int v = 0; v < V; ++v)
+      if (onSurface[v]) interp[q][v] = field.interpolated(cc.rest.col(v), value);
   }
   std::ostringstream o;
   writeVtu(o, surface, cc.rest,
-           {{"interpolated_stiffness_uN_per_um", 1, iStiff},
-            {"interpolated_force_uN", 1, iForce},
-            {"interpolated_hertz_MPa", 1, iHertz}},
-           {{"site_stiffness_uN_per_um", 1, siteStiff},
-            {"site_force_uN", 1, siteForce},
-            {"site_hertz_MPa", 1, siteHertz}});
+           {{"interpolated_stiffness_uN_per_um", 1, interp[0]},
+            {"interpolated_force_uN", 1, interp[1]},
+            {"interpolated_hertz_MPa", 1, interp[2]}},
+           {{"site_stiffness_uN_per_um", 1, site[0]},
+            {"site_force_uN", 1, site[1]},
+            {"site_hertz_MPa", 1, site[2]}});
   return o.str();
 }
 

@@ -13,7 +13,9 @@
 // the surface depend on the plan and the results only, so a single run, a resumed run and the
 // merge of shards write the same bytes. Units: µm, MPa, µN.
 
+#include <array>
 #include <atomic>
+#include <limits>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -56,6 +58,13 @@ std::vector<MapSite> gridSites(const CellComplex& cc, double spacing);
 /// A list of sites: a CSV/TSV (or whitespace-separated) text of x,y,z in µm, one per line, an
 /// optional header line, '#' comments. Throws std::runtime_error naming file, line and value.
 std::vector<MapSite> readSiteList(const std::string& path);
+
+/// The sites of several kinds, in the order given: `gridSpacing` (µm, NaN: the mean cell size)
+/// for a grid, `siteList` (a file, see readSiteList) for a list, which must lie near the surface
+/// (checkSitesNearSurface). Throws std::invalid_argument naming the option ("--grid-spacing",
+/// "--site-list") and the problem; std::runtime_error for a bad list file.
+std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>& kinds,
+                              double gridSpacing, const std::string& siteList);
 
 /// Throws std::invalid_argument naming `source`, the site's label and its distance when a site is
 /// farther than the mean cell size from the free outer surface of the rest tissue.
@@ -115,6 +124,7 @@ struct TaskResult {
   double meshError = -1;          // relative estimated discretisation error; < 0 not estimated
   std::string status;             // "converged", "mesh error above tolerance", "failed"
   std::string message;            // why it failed, or a warning
+  std::vector<std::array<double, 2>> curve;  // (depth µm, force µN) of the loading, from 0
   double seconds = 0;             // wall time (run log only, not in the table)
 
   bool converged() const { return status == "converged"; }
@@ -125,6 +135,34 @@ struct TaskResult {
 
 /// The result of one task from its experiment's result (the curve's end point).
 TaskResult taskResult(int task, const ExperimentSettings& settings, const ExperimentResult& r);
+
+/// A map's values over the surface, from its converged sites: at a point, the value of the
+/// nearest site, or Shepard's inverse-distance interpolation (power 2, Shepard 1968) of the
+/// sites within twice the median distance between neighbouring sites. A site is where its
+/// generated point is (a material point of the rest surface) or, for a listed site, where it was
+/// indented (its contact point). Units: µm, and those of the value.
+class MapField {
+ public:
+  enum Value { Stiffness, Force, Hertz };  // secant µN/µm, µN, MPa
+  static constexpr int kValueCount = 3;
+  MapField(const MapPlan& plan, const std::vector<TaskResult>& results);
+  bool empty() const { return sites_.empty(); }
+  int siteCount() const { return static_cast<int>(sites_.size()); }
+  double radius() const { return radius_; }
+  /// The task of the converged site nearest to x, or −1 without any.
+  int nearestTask(const Vec3& x, double* distance = nullptr) const;
+  double nearest(const Vec3& x, Value v) const;       // NaN without sites
+  double interpolated(const Vec3& x, Value v) const;  // NaN beyond the radius of every site
+
+ private:
+  struct Site {
+    Vec3 x;
+    int task;
+    double value[kValueCount];
+  };
+  std::vector<Site> sites_;
+  double radius_ = std::numeric_limits<double>::infinity();
+};
 
 /// The map's table: a header, then one row per task in task order.
 std::string mapTable(const MapPlan& plan, const std::vector<TaskResult>& results);

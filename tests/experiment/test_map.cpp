@@ -234,6 +234,7 @@ TEST(MapResults, ATaskResultSurvivesItsFileWithNaNs) {
   r.meshError = 0.0123;
   r.status = "failed";
   r.message = "a, \"quoted\" message";
+  r.curve = {{0.0, 0.0}, {0.1, 0.0123456789012345678}, {0.2, 0.05}};
   const TaskResult back = TaskResult::fromJson(nlohmann::json::parse(r.toJson().dump()), "f");
   EXPECT_EQ(back.task, 17);
   EXPECT_EQ(back.contact, r.contact);
@@ -242,12 +243,58 @@ TEST(MapResults, ATaskResultSurvivesItsFileWithNaNs) {
   EXPECT_TRUE(std::isnan(back.hertz));
   EXPECT_EQ(back.level, 3);
   EXPECT_EQ(back.message, r.message);
+  EXPECT_EQ(back.curve, r.curve);  // bit for bit
   nlohmann::json bad = r.toJson();
+  bad.erase("curve");  // results of earlier versions have no curve
+  EXPECT_TRUE(TaskResult::fromJson(bad, "f").curve.empty());
+  bad["curve"] = nlohmann::json::array({nlohmann::json::array({0.1})});
+  EXPECT_THROW(TaskResult::fromJson(bad, "f"), std::runtime_error);
+  bad = r.toJson();
   bad["status"] = "fine";
   EXPECT_THROW(TaskResult::fromJson(bad, "f"), std::runtime_error);
   bad = r.toJson();
   bad["level"] = 3.5;
   EXPECT_THROW(TaskResult::fromJson(bad, "f"), std::runtime_error);
+}
+
+TEST(MapResults, AMapFieldIsTheSiteValueAtASiteAndShepardBetween) {
+  // Three converged sites on a line 0, 2, 10 µm and a failed one: nearest distances 2, 2, 8, so
+  // the radius is twice the median, 4 µm.
+  MapPlan plan;
+  for (double x : {0.0, 2.0, 10.0, 1.0}) {
+    MapSite s;
+    s.kind = SiteKind::CellMiddle;
+    s.point = Vec3(x, 0, 5);
+    plan.sites.push_back(s);
+  }
+  std::vector<TaskResult> results(4);
+  const double stiffness[] = {1.0, 4.0, 9.0, 100.0};
+  for (int t = 0; t < 4; ++t) {
+    results[t].task = t;
+    results[t].status = t == 3 ? "failed" : "converged";
+    results[t].secant = stiffness[t];
+    results[t].force = 0.5 * stiffness[t];
+    results[t].hertz = 10 * stiffness[t];
+    results[t].contact = Vec3(100, 100, 100);  // a generated site is where its point is
+  }
+  const MapField f(plan, results);
+  EXPECT_EQ(f.siteCount(), 3);
+  EXPECT_DOUBLE_EQ(f.radius(), 4.0);
+  EXPECT_EQ(f.interpolated(Vec3(2, 0, 5), MapField::Stiffness), 4.0);
+  EXPECT_EQ(f.interpolated(Vec3(10, 0, 5), MapField::Hertz), 90.0);
+  // at x = 0.5: weights 1/0.25 and 1/2.25 (the site at 10 µm is beyond the radius)
+  const double w0 = 4.0, w1 = 1.0 / 2.25;
+  EXPECT_NEAR(f.interpolated(Vec3(0.5, 0, 5), MapField::Stiffness), (w0 * 1 + w1 * 4) / (w0 + w1),
+              1e-14);
+  EXPECT_NEAR(f.interpolated(Vec3(0.5, 0, 5), MapField::Force), 0.5 * (w0 * 1 + w1 * 4) / (w0 + w1),
+              1e-14);
+  EXPECT_TRUE(std::isnan(f.interpolated(Vec3(15, 0, 5), MapField::Stiffness)));  // no site near
+  EXPECT_EQ(f.nearest(Vec3(6.5, 0, 5), MapField::Stiffness), 9.0);
+  double d = 0;
+  EXPECT_EQ(f.nearestTask(Vec3(1.2, 0, 5), &d), 1);  // not the failed site at 1 µm
+  EXPECT_NEAR(d, 0.8, 1e-14);
+  EXPECT_TRUE(MapField(plan, {}).empty());
+  EXPECT_EQ(MapField(plan, {}).nearestTask(Vec3::Zero()), -1);
 }
 
 namespace {
@@ -295,6 +342,12 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
     EXPECT_NEAR(m.tangent, (x.curve[3].force - x.curve[2].force) / (x.curve[3].depth - x.curve[2].depth),
                 1e-9 * std::abs(m.tangent));
     EXPECT_LT((m.contact - x.site->indentation->placement().site).norm(), 1e-9);
+    // its loading curve, point for point (what the application draws for a map site)
+    ASSERT_EQ(m.curve.size(), 4u);
+    for (int k = 0; k <= 3; ++k) {
+      EXPECT_NEAR(m.curve[k][0], x.curve[k].depth, 1e-12);
+      EXPECT_NEAR(m.curve[k][1], x.curve[k].force, 1e-9 * std::abs(x.curve[3].force));
+    }
     // a cell middle is a material point: the one indented is the site itself at rest
     EXPECT_LT((e.restSite() - plan.site(t).point).norm(), 1e-9);
   }
