@@ -12,6 +12,8 @@
 #include <QSlider>
 #include <QVBoxLayout>
 
+#include "MapValues.h"
+
 namespace tp::gui {
 
 namespace {
@@ -39,11 +41,18 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
     field_->addItem(QString::fromUtf8(fieldName(Field(f))) + " (" +
                         QString::fromUtf8(fieldUnit(Field(f))) + ")",
                     f);
+  field_->insertSeparator(kFieldCount);
+  for (int v = 0; v < MapField::kValueCount; ++v)
+    field_->addItem(QString::fromUtf8(mapValueInfo(v).name) + " (" +
+                        QString::fromUtf8(mapValueInfo(v).unit) + ")",
+                    kMapItem + v);
   field_->setToolTip(
       tr("Quantity that colours each wall triangle: in-plane stresses and "
          "energy densities from the stress read-out (MPa), the displacement "
          "from the turgid state (µm), or the stress the probe adds: the change "
-         "from the turgid state (MPa, on the diverging map)."));
+         "from the turgid state (MPa, on the diverging map). The stiffness map's values "
+         "(Simulation ▸ Stiffness map) colour the outer surface, interpolated between the "
+         "map's sites; then a click on a site shows its curve."));
   map_ = new QComboBox;
   for (int k = 0; k < ColorMap::kKindCount; ++k)
     map_->addItem(QString::fromUtf8(ColorMap::name(ColorMap::Kind(k))), k);
@@ -111,14 +120,18 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
   connect(field_, &QComboBox::currentIndexChanged, this, [this] {
     // A change from the turgid state is signed: shown on the diverging map (zero in the
     // middle); back on a magnitude, the map it had before.
-    const bool change = quantityInfo(field()).change;
+    const bool change = mapValue() < 0 && quantityInfo(field()).change;
     if (change != lastFieldWasChange_) {
       const int wanted = change ? int(ColorMap::Kind::CoolWarm) : int(ColorMap::Kind::Viridis);
       map_->setCurrentIndex(map_->findData(wanted));
       lastFieldWasChange_ = change;
     }
     updateUnits();
-    emit fieldChanged(field());
+    if (mapValue() < 0) {
+      lastField_ = field();
+      emit fieldChanged(field());
+    }
+    emit mapValueChanged(mapValue());
   });
   connect(map_, &QComboBox::currentIndexChanged, this,
           [this] { emit colorMapChanged(colorMapKind()); });
@@ -142,7 +155,17 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
 }
 
 Field DisplayPanel::field() const {
-  return Field(field_->currentData().toInt());
+  const int d = field_->currentData().toInt();
+  return d >= kMapItem ? lastField_ : Field(d);
+}
+
+int DisplayPanel::mapValue() const {
+  const int d = field_->currentData().toInt();
+  return d >= kMapItem ? d - kMapItem : -1;
+}
+
+void DisplayPanel::showMapValue(int v) {
+  if (v >= 0 && v < MapField::kValueCount) field_->setCurrentIndex(field_->findData(kMapItem + v));
 }
 
 ColorMap::Kind DisplayPanel::colorMapKind() const {
@@ -159,7 +182,7 @@ void DisplayPanel::setSectionEnabled(bool on) {
 
 DisplaySettings DisplayPanel::settings() const {
   DisplaySettings d;
-  d.quantity = fieldKey(field());
+  d.quantity = mapValue() >= 0 ? mapValueInfo(mapValue()).key : fieldKey(field());
   d.colourMap = ColorMap::key(colorMapKind());
   d.autoRange = auto_->isChecked();
   d.lo = lo_->value();
@@ -177,6 +200,7 @@ DisplaySettings DisplayPanel::settings() const {
 void DisplayPanel::applySettings(const DisplaySettings& d) {
   const int q = quantityIndex(d.quantity);
   if (q >= 0) field_->setCurrentIndex(field_->findData(q));
+  if (const int v = mapValueIndex(d.quantity); v >= 0) showMapValue(v);
   // After the quantity, whose change may switch the map.
   for (int k = 0; k < ColorMap::kKindCount; ++k)
     if (d.colourMap == ColorMap::key(ColorMap::Kind(k))) map_->setCurrentIndex(map_->findData(k));
@@ -194,7 +218,9 @@ void DisplayPanel::applySettings(const DisplaySettings& d) {
 }
 
 void DisplayPanel::updateUnits() {
-  const QString unit = QStringLiteral(" ") + QString::fromUtf8(fieldUnit(field()));
+  const QString unit =
+      QStringLiteral(" ") + QString::fromUtf8(mapValue() >= 0 ? mapValueInfo(mapValue()).unit
+                                                              : fieldUnit(field()));
   lo_->setSuffix(unit);
   hi_->setSuffix(unit);
 }

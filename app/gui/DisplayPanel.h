@@ -22,7 +22,10 @@ class DisplayPanel : public QWidget {
  public:
   explicit DisplayPanel(QWidget* parent = nullptr);
 
+  /// The quantity chosen (while a map value is, the quantity chosen before it).
   Field field() const;
+  /// The stiffness map's value chosen (MapValues.h), or −1.
+  int mapValue() const;
   ColorMap::Kind colorMapKind() const;
   bool sectionEnabled() const;
   /// Everything this dock sets, for a session (the camera is left empty: it is the view's).
@@ -34,9 +37,12 @@ class DisplayPanel : public QWidget {
   /// The range the view uses (shown in the min/max boxes while the range is automatic).
   void showRange(double lo, double hi);
   void setSectionEnabled(bool on);
+  /// Chooses map value `v` in the quantity menu.
+  void showMapValue(int v);
 
  signals:
   void fieldChanged(tp::gui::Field field);
+  void mapValueChanged(int value);
   void colorMapChanged(tp::gui::ColorMap::Kind kind);
   void autoRangeChanged(bool on);
   void rangeChanged(double lo, double hi);
@@ -54,6 +60,8 @@ class DisplayPanel : public QWidget {
   QDoubleSpinBox *lo_, *hi_, *deformation_;
   QSlider* position_;
   bool lastFieldWasChange_ = false;
+  Field lastField_ = Field::VonMises;
+  static constexpr int kMapItem = 1000;  // item data of the map values: kMapItem + value
 };
 
 }  // namespace tp::gui

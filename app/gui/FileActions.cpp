@@ -11,6 +11,7 @@
 #include "PlotPanel.h"
 #include "RecentFiles.h"
 #include "DisplayPanel.h"
+#include "MapRunner.h"
 #include "ScreenshotDialog.h"
 #include "io/TissueFiles.h"
 #include "SessionFile.h"
@@ -42,13 +43,14 @@ void showError(QWidget* parent, const QString& title, const QString& text) {
 }
 
 FileActions::FileActions(QWidget* window, SimulationController* controller, TissueView* view,
-                         PlotPanel* plot, DisplayPanel* display)
+                         PlotPanel* plot, DisplayPanel* display, MapRunner* map)
     : QObject(window),
       window_(window),
       controller_(controller),
       view_(view),
       plot_(plot),
-      display_(display) {}
+      display_(display),
+      map_(map) {}
 
 void FileActions::open(const QString& path) {
   if (QFileInfo(path).suffix().compare("json", Qt::CaseInsensitive) == 0) {
@@ -71,7 +73,14 @@ void FileActions::openTissue(const QString& path) {
 bool FileActions::openSession(const QString& path, QString* error) {
   try {
     const SessionState session = loadSession(path.toStdString());
+    if (session.map && map_->running())
+      throw std::runtime_error(path.toStdString() +
+                               ": holds a stiffness map, and one is running: cancel it first");
     controller_->applySession(session);
+    if (session.map)
+      map_->setMap(*session.map);
+    else
+      map_->clear();
     // How it was shown: the dock's settings, and the camera once its tissue is in the view.
     if (session.display) {
       display_->applySettings(*session.display);
@@ -89,6 +98,7 @@ bool FileActions::openSession(const QString& path, QString* error) {
 bool FileActions::saveSession(const QString& path, QString* error) {
   try {
     SessionState session = controller_->session();
+    if (map_->hasMap()) session.map = map_->map();
     session.display = display_->settings();
     session.display->camera = view_->cameraPose();
     tp::gui::saveSession(path.toStdString(), session);
@@ -261,6 +271,49 @@ void FileActions::importMeasuredCurveDialog() {
     return;
   }
   emit statusMessage(tr("Measured curve %1 added").arg(QFileInfo(path).fileName()));
+}
+
+bool FileActions::exportMapTable(const QString& path, QString* error) {
+  try {
+    map_->exportTable(path);
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  return true;
+}
+
+bool FileActions::exportMapSurface(const QString& path, QString* error) {
+  try {
+    map_->exportSurface(path);
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromUtf8(e.what());
+    return false;
+  }
+  return true;
+}
+
+void FileActions::exportMapTableDialog() {
+  if (!map_->hasMap()) {
+    showError(window_, tr("No stiffness map"), tr("Make one first: Simulation ▸ Stiffness map."));
+    return;
+  }
+  const QString path = askSave(tr("Export the stiffness map"), "map.csv", tr("CSV (*.csv)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(exportMapTable(path, &error), tr("stiffness map"), path, error);
+}
+
+void FileActions::exportMapSurfaceDialog() {
+  if (!map_->hasMap()) {
+    showError(window_, tr("No stiffness map"), tr("Make one first: Simulation ▸ Stiffness map."));
+    return;
+  }
+  const QString path = askSave(tr("Export the stiffness map's surface"), "map-surface.vtu",
+                               tr("VTK unstructured grid (*.vtu)"));
+  if (path.isEmpty()) return;
+  QString error;
+  report(exportMapSurface(path, &error), tr("stiffness map surface"), path, error);
 }
 
 void FileActions::exportVtuDialog() {

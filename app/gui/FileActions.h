@@ -1,7 +1,8 @@
 #pragma once
 // Opening, saving and exporting, with and without dialogs: tissues (PLY) and sessions (JSON),
-// the plot (PNG/SVG/PDF), the curves (CSV), a screenshot of the 3D view (PNG at a chosen size)
-// and the deformed state (VTU, written by the worker). Every write is atomic. Errors appear in
+// the plot (PNG/SVG/PDF), the curves (CSV), a screenshot of the 3D view (PNG at a chosen size),
+// the deformed state (VTU, written by the worker) and the stiffness map (CSV, VTU); a session
+// holds the map too. Every write is atomic. Errors appear in
 // a message box that does not block (tests keep running); the dialog-free functions return them.
 
 #include <QObject>
@@ -13,6 +14,7 @@ class QWidget;
 namespace tp::gui {
 
 class DisplayPanel;
+class MapRunner;
 class PlotPanel;
 class SimulationController;
 class TissueView;
@@ -25,7 +27,7 @@ class FileActions : public QObject {
 
  public:
   FileActions(QWidget* window, SimulationController* controller, TissueView* view, PlotPanel* plot,
-              DisplayPanel* display);
+              DisplayPanel* display, MapRunner* map);
 
   /// A session (*.json) or a tissue (anything else).
   void open(const QString& path);
@@ -41,6 +43,9 @@ class FileActions : public QObject {
   /// export converted at its estimated contact point) added to the plot. False with a message
   /// naming the file, line and value.
   bool importMeasuredCurve(const QString& path, QString* error);
+  /// The stiffness map's table (CSV) and its surface (VTU), as `tissueprobe-cli map` writes them.
+  bool exportMapTable(const QString& path, QString* error);
+  bool exportMapSurface(const QString& path, QString* error);
 
  public slots:
   void openTissueDialog();
@@ -52,6 +57,8 @@ class FileActions : public QObject {
   void exportScreenshotDialog();
   void exportVtuDialog();
   void importMeasuredCurveDialog();
+  void exportMapTableDialog();
+  void exportMapSurfaceDialog();
 
  signals:
   void recentFilesChanged();
@@ -66,6 +73,7 @@ class FileActions : public QObject {
   TissueView* view_;
   PlotPanel* plot_;
   DisplayPanel* display_;
+  MapRunner* map_;
 };
 
 }  // namespace tp::gui

@@ -30,6 +30,8 @@
 #include "Curves.h"
 #include "DisplayPanel.h"
 #include "FileActions.h"
+#include "MapPanel.h"
+#include "MapRunner.h"
 #include "ParameterPanel.h"
 #include "PlotPanel.h"
 #include "RecentFiles.h"
@@ -51,7 +53,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   params_ = new ParameterPanel;
   display_ = new DisplayPanel;
   plot_ = new PlotPanel;
-  files_ = new FileActions(this, controller_, view_, plot_, display_);
+  mapRunner_ = new MapRunner(this);
+  mapPanel_ = new MapPanel(mapRunner_, controller_);
+  files_ = new FileActions(this, controller_, view_, plot_, display_, mapRunner_);
   createDocks();
   createMenus();
   createStatusBar();
@@ -87,9 +91,12 @@ void MainWindow::createDocks() {
   auto* p = dock(tr("Parameters"), "parametersDock", scroll, Qt::LeftDockWidgetArea);
   auto* d = dock(tr("Colour and section"), "displayDock", display_, Qt::RightDockWidgetArea);
   auto* c = dock(tr("Force–depth curves"), "plotDock", plot_, Qt::BottomDockWidgetArea);
+  mapDock_ = dock(tr("Stiffness map"), "mapDock", mapPanel_, Qt::RightDockWidgetArea);
+  tabifyDockWidget(d, mapDock_);
+  d->raise();
   resizeDocks({c}, {260}, Qt::Vertical);
   viewMenu_ = new QMenu(tr("&View"), this);
-  for (auto* w : {p, d, c}) viewMenu_->addAction(w->toggleViewAction());
+  for (auto* w : {p, d, mapDock_, c}) viewMenu_->addAction(w->toggleViewAction());
 }
 
 void MainWindow::createMenus() {
@@ -129,6 +136,12 @@ void MainWindow::createMenus() {
   add(file, tr("Export deformed state (&VTU)…"), QKeySequence(tr("Ctrl+Shift+U")),
       tr("The current state with stress fields, for ParaView"),
       [this] { files_->exportVtuDialog(); });
+  add(file, tr("Export stiffness &map (CSV)…"), QKeySequence(),
+      tr("The map's table: one row per site (force, stiffness, Hertz modulus, mesh error)"),
+      [this] { files_->exportMapTableDialog(); });
+  add(file, tr("Export stiffness map surface (VTU)…"), QKeySequence(),
+      tr("The outer surface coloured by the map (per site and interpolated), for ParaView"),
+      [this] { files_->exportMapSurfaceDialog(); });
   file->addSeparator();
   add(file, tr("&Quit"), QKeySequence::Quit, tr("Quit TissueProbe"), [this] { close(); });
 
@@ -164,6 +177,13 @@ void MainWindow::createMenus() {
       tr("Fit the walls' E, the turgor p (and h, a contact offset) to the measured curves at "
          "the current site; Cancel stops it"),
       [this] { askFit(); });
+  add(sim, tr("Stiffness &map…"), QKeySequence(tr("Ctrl+M")),
+      tr("Indent many sites (cell middles, junctions, a grid) in the background and colour the "
+         "surface by their stiffness"),
+      [this] {
+        mapDock_->show();
+        mapDock_->raise();
+      });
   sim->addSeparator();
   add(sim, tr("&Turgid preset"), QKeySequence(), tr("Turgor p = 0.8 MPa"),
       [this] { params_->applyTurgidPreset(); });
@@ -303,6 +323,22 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
   connect(c, &SimulationController::fitFinished, this, &MainWindow::showFit);
+  // The stiffness map: colours, site dots, clicks for a site's curve.
+  connect(display_, &DisplayPanel::mapValueChanged, view_, &TissueView::setMapValue);
+  connect(mapRunner_, &MapRunner::mapChanged, this, [this] {
+    std::vector<Eigen::Vector3d> sites;
+    if (mapRunner_->hasMap())
+      for (const TaskResult& r : mapRunner_->map().results)
+        if (r.task >= 0 && r.converged() && r.contact.allFinite()) sites.push_back(r.contact);
+    view_->setMap(mapRunner_->field(), std::move(sites));
+  });
+  connect(c, &SimulationController::snapshotReady, mapRunner_, [this](const Snapshot& s) {
+    if (!s.empty()) mapRunner_->setTissue(s.geometry->path, s.geometry->meanCellSize);
+  });
+  connect(mapPanel_, &MapPanel::showRequested, this, [this] { display_->showMapValue(0); });
+  connect(mapPanel_, &MapPanel::statusMessage, this,
+          [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  connect(view_, &TissueView::mapPointPicked, this, &MainWindow::showMapSite);
   // Earlier sites on the tissue, the selected curve's highlighted.
   connect(c, &SimulationController::sitesChanged, this, &MainWindow::updateSiteMarkers);
   connect(c, &SimulationController::curvesChanged, this, &MainWindow::updateSiteMarkers);
@@ -419,6 +455,38 @@ void MainWindow::showFit(const FitOutcome& outcome) {
                   tr("Fit of the measured curves"), text, QMessageBox::Ok, this);
   box.setObjectName("fitResult");
   box.exec();
+}
+
+void MainWindow::showMapSite(const Eigen::Vector3d& restPoint) {
+  // The site nearest the click, within half a cell: its curve joins the plot.
+  NamedCurve curve;
+  const double within = 0.5 * std::max(controller_->meanCellSize(), 1.0);
+  const int task = mapRunner_->siteCurve(restPoint, within, &curve);
+  if (task < 0) {
+    statusBar()->showMessage(
+        mapRunner_->hasMap()
+            ? tr("No map site here: click on a dot (or choose a quantity to pick indentation sites)")
+            : tr("No stiffness map yet: Simulation ▸ Stiffness map"),
+        5000);
+    return;
+  }
+  const TaskResult* r = &mapRunner_->map().results[task];
+  const auto& curves = controller_->curves();
+  if (std::none_of(curves.begin(), curves.end(),
+                   [&](const NamedCurve& c) { return c.name == curve.name; }))
+    controller_->addSimulatedCurve(std::move(curve));
+  statusBar()->showMessage(tr("%1: force %2 µN at %3 µm, secant %4 µN/µm, tangent %5 µN/µm, "
+                                "Hertz %6 MPa, mesh level %7%8")
+                                 .arg(QString::fromStdString(mapRunner_->map().plan.site(r->task).label))
+                                 .arg(r->force, 0, 'g', 4)
+                                 .arg(r->depth, 0, 'g', 3)
+                                 .arg(r->secant, 0, 'g', 4)
+                                 .arg(r->tangent, 0, 'g', 4)
+                                 .arg(r->hertz, 0, 'g', 4)
+                                 .arg(r->level)
+                                 .arg(r->meshError >= 0
+                                          ? tr(", mesh error ±%1 %").arg(100 * r->meshError, 0, 'g', 2)
+                                          : QString()));
 }
 
 void MainWindow::updateSiteMarkers() {

@@ -5,6 +5,9 @@
 
 #include <QMainWindow>
 
+#include <Eigen/Core>
+
+class QDockWidget;
 class QLabel;
 class QMenu;
 
@@ -13,6 +16,8 @@ namespace tp::gui {
 class BusyIndicator;
 class DisplayPanel;
 class FileActions;
+class MapPanel;
+class MapRunner;
 class ParameterPanel;
 class PlotPanel;
 class SimulationController;
@@ -32,6 +37,8 @@ class MainWindow : public QMainWindow {
   ParameterPanel* parameterPanel() const { return params_; }
   DisplayPanel* displayPanel() const { return display_; }
   FileActions* fileActions() const { return files_; }
+  MapRunner* mapRunner() const { return mapRunner_; }
+  MapPanel* mapPanel() const { return mapPanel_; }
 
  protected:
   bool eventFilter(QObject* watched, QEvent* e) override;
@@ -49,6 +56,7 @@ class MainWindow : public QMainWindow {
   void askFit();
   void showFit(const tp::gui::FitOutcome& outcome);
   void showControls();
+  void showMapSite(const Eigen::Vector3d& restPoint);
 
   SimulationController* controller_;
   TissueView* view_;
@@ -56,6 +64,9 @@ class MainWindow : public QMainWindow {
   DisplayPanel* display_;
   PlotPanel* plot_;
   FileActions* files_;
+  MapRunner* mapRunner_;
+  MapPanel* mapPanel_;
+  QDockWidget* mapDock_ = nullptr;
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;
   BusyIndicator* busy_;

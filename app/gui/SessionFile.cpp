@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "ColorMap.h"
+#include "MapValues.h"
 #include "experiment/Quantities.h"
 #include "io/AtomicFile.h"
 
@@ -118,7 +119,8 @@ DisplaySettings displayFromJson(const json& j) {
   };
   if (j.contains("quantity")) {
     const json& q = j.at("quantity");
-    if (!q.is_string() || quantityIndex(q.get<std::string>()) < 0)
+    if (!q.is_string() ||
+        (quantityIndex(q.get<std::string>()) < 0 && mapValueIndex(q.get<std::string>()) < 0))
       throw std::runtime_error("display.quantity " + q.dump() + " is not a known quantity");
     d.quantity = q.get<std::string>();
   }
@@ -183,6 +185,34 @@ DisplaySettings displayFromJson(const json& j) {
 
 }  // namespace
 
+json mapToJson(const SessionMap& m) {
+  json rows = json::array();
+  for (const TaskResult& r : m.results)
+    if (r.task >= 0) rows.push_back(r.toJson());
+  return {{"plan", m.plan.toJson()}, {"parameters", toJson(m.params)}, {"results", rows}};
+}
+
+SessionMap mapFromJson(const json& j, const std::string& where) {
+  if (!j.is_object() || !j.contains("plan") || !j.contains("results") || !j.at("results").is_array())
+    throw std::runtime_error(where + " must be an object with 'plan' and 'results'");
+  SessionMap m;
+  m.plan = MapPlan::fromJson(j.at("plan"), where + ".plan");
+  if (m.plan.sites.empty()) throw std::runtime_error(where + ".plan has no sites");
+  // The application shows maps, not sweeps (and a task count bounded by the sites listed).
+  if (!m.plan.vary.empty()) throw std::runtime_error(where + ".plan varies parameters: a sweep, not a map");
+  if (j.contains("parameters")) m.params = paramsFromJson(j.at("parameters"));
+  m.results.assign(m.plan.taskCount(), TaskResult{});
+  const json& rows = j.at("results");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const std::string w = where + ".results[" + std::to_string(i) + "]";
+    TaskResult r = TaskResult::fromJson(rows[i], w);
+    if (r.task < 0 || r.task >= m.plan.taskCount())
+      throw std::runtime_error(w + ": task " + std::to_string(r.task) + " is not a task of the plan");
+    m.results[r.task] = std::move(r);
+  }
+  return m;
+}
+
 json sessionToJson(const SessionState& s) {
   json j;
   j["format"] = kFormat;
@@ -213,6 +243,7 @@ json sessionToJson(const SessionState& s) {
     j["curves"].push_back(std::move(curve));
   }
   if (s.display) j["display"] = displayToJson(*s.display);
+  if (s.map) j["map"] = mapToJson(*s.map);
   return j;
 }
 
@@ -277,6 +308,7 @@ SessionState sessionFromJson(const json& j, const std::string& nameForErrors) {
       }
     }
     if (j.contains("display")) s.display = displayFromJson(j.at("display"));
+    if (j.contains("map")) s.map = mapFromJson(j.at("map"), "map");
     return s;
   } catch (const json::exception& e) {
     throw std::runtime_error(nameForErrors + ": " + e.what());

@@ -9,7 +9,8 @@
 //    "display": {"quantity": "von_mises", "colour_map": "viridis", "auto_range": true,
 //                "range": [0, 20], "outlines": true, "mesh": false, "deformation_scale": 1,
 //                "section": {"on": false, "axis": "y", "position": 0.5, "keep_other_side": false},
-//                "camera": {"target": [x, y, z], "orientation": [w, x, y, z], "distance": d}}}
+//                "camera": {"target": [x, y, z], "orientation": [w, x, y, z], "distance": d}},
+//    "map": {"plan": {...}, "parameters": {...}, "results": [...]}}   (see SessionMap)
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,7 @@
 
 #include "Curves.h"
 #include "Parameters.h"
+#include "experiment/Map.h"
 
 namespace tp::gui {
 
@@ -42,6 +44,18 @@ struct DisplaySettings {
   std::optional<Camera> camera;  // none: the initial view
 };
 
+/// A stiffness map shown in the application: what was mapped, with which parameters, and the
+/// sites done (task order; a task not done has task = −1). In JSON as map.json has it, plus the
+/// parameters: {"plan": {...}, "parameters": {...}, "results": [...]}.
+struct SessionMap {
+  MapPlan plan;
+  SimulationParams params;
+  std::vector<TaskResult> results;
+};
+nlohmann::json mapToJson(const SessionMap& m);
+/// Throws std::runtime_error naming `where` and the key.
+SessionMap mapFromJson(const nlohmann::json& j, const std::string& where);
+
 struct SessionState {
   std::string tissuePath;  // empty: the shipped default tissue
   SimulationParams params;
@@ -50,6 +64,7 @@ struct SessionState {
   int currentSite = -1;                // index into sites, −1 = the default site (the top)
   std::vector<NamedCurve> curves;
   std::optional<DisplaySettings> display;  // none in sessions of earlier versions
+  std::optional<SessionMap> map;           // a stiffness map, if one was made
 };
 
 nlohmann::json sessionToJson(const SessionState& s);

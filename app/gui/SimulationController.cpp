@@ -220,6 +220,16 @@ void SimulationController::addMeasuredCurve(NamedCurve curve) {
   emit curvesChanged();
 }
 
+void SimulationController::addSimulatedCurve(NamedCurve curve) {
+  curve.measured = false;
+  curve.live = false;
+  curve.colour = nextColour_++;
+  curve.preparation = -1;
+  curves_.push_back(std::move(curve));
+  unsaved_ = true;
+  emit curvesChanged();
+}
+
 void SimulationController::removeCurve(int index) {
   if (index < 0 || index >= static_cast<int>(curves_.size())) return;
   curves_.erase(curves_.begin() + index);

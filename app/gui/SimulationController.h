@@ -45,6 +45,8 @@ class SimulationController : public QObject {
   void removeCurve(int index);
   /// A measured curve (imported from a file), drawn beside the simulated ones.
   void addMeasuredCurve(NamedCurve curve);
+  /// A finished simulated curve computed elsewhere (a stiffness map's site), added as it is.
+  void addSimulatedCurve(NamedCurve curve);
   /// Fits the chosen values to every measured curve at the current site (experiment/Fit.h),
   /// from the current parameters; the fitted curves are added when it ends. False (nothing
   /// started) without a measured curve, a prepared site or anything to fit.

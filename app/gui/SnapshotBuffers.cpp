@@ -8,6 +8,12 @@
 namespace tp::gui {
 
 void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map) {
+  static const std::vector<float> none;
+  build(s, s.empty() ? none : s.fields[static_cast<int>(field)], map);
+}
+
+void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
+                            const ColorMap& map) {
   triangles_.clear();
   lines_.clear();
   mesh_.clear();
@@ -22,7 +28,6 @@ void SnapshotBuffers::build(const Snapshot& s, Field field, const ColorMap& map)
   };
   for (int v = 0; v < g.vertexCount(); ++v) bounds_.extend(vertex(v).cast<double>());
 
-  const auto& values = s.fields[static_cast<int>(field)];
   const int T = g.triangleCount();
   triangles_.resize(static_cast<size_t>(T) * 3 * kTriangleStride);
   float* out = triangles_.data();
@@ -114,9 +119,18 @@ std::vector<float> unitSphereMesh(int subdivisions) {
 }
 
 AutoRange autoRange(const Snapshot& s, Field field, bool diverging) {
+  // Absolute fields (stress, energy density): the 0.1 % of triangles at either end do not set
+  // the range, so that a few slivers (75 MPa on the real flower against 15 MPa around them) do
+  // not paint the whole tissue one colour. Changes from the turgid state and displacements keep
+  // their extremes: there the few triangles under the probe are the signal.
+  const bool robust = !quantityInfo(field).change && field != Field::Displacement;
+  return autoRange(s.fields[static_cast<int>(field)], robust, diverging);
+}
+
+AutoRange autoRange(const std::vector<float>& values, bool robust, bool diverging) {
   std::vector<float> v;
-  v.reserve(s.fields[static_cast<int>(field)].size());
-  for (float x : s.fields[static_cast<int>(field)])
+  v.reserve(values.size());
+  for (float x : values)
     if (std::isfinite(x)) v.push_back(x);
   AutoRange r;
   if (v.empty()) return r;
@@ -124,11 +138,6 @@ AutoRange autoRange(const Snapshot& s, Field field, bool diverging) {
   r.dataLo = *mn;
   r.dataHi = *mx;
   double lo = r.dataLo, hi = r.dataHi;
-  // Absolute fields (stress, energy density): the 0.1 % of triangles at either end do not set
-  // the range, so that a few slivers (75 MPa on the real flower against 15 MPa around them) do
-  // not paint the whole tissue one colour. Changes from the turgid state and displacements keep
-  // their extremes: there the few triangles under the probe are the signal.
-  const bool robust = !quantityInfo(field).change && field != Field::Displacement;
   const std::size_t k = robust ? v.size() / 1000 : 0;
   if (k > 0) {
     std::nth_element(v.begin(), v.begin() + k, v.end());

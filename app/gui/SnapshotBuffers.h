@@ -25,6 +25,8 @@ class SnapshotBuffers {
 
   /// Rebuilds every array from the snapshot (empty snapshot: empty arrays).
   void build(const Snapshot& snapshot, Field field, const ColorMap& map);
+  /// The same with the colours from `values` (one per triangle; NaN or missing: no colour).
+  void build(const Snapshot& snapshot, const std::vector<float>& values, const ColorMap& map);
 
   /// Outer-surface triangles come first: when nothing cuts the tissue only they can be seen
   /// (the outer surface is closed), so the renderer draws just them.
@@ -69,5 +71,7 @@ struct AutoRange {
 /// below kNoiseFloor in magnitude give [0, kNoiseFloor] (or ±kNoiseFloor); for a diverging map
 /// and values of both signs, symmetric about zero so that zero sits at the neutral colour.
 AutoRange autoRange(const Snapshot& snapshot, Field field, bool diverging);
+/// The same for any values; `robust` leaves out the 0.1 % at either end.
+AutoRange autoRange(const std::vector<float>& values, bool robust, bool diverging);
 
 }  // namespace tp::gui

@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ColorBar.h"
 #include "Curves.h"
+#include "MapValues.h"
 #include "Resources.h"
 
 namespace tp::gui {
@@ -180,11 +182,64 @@ void TissueView::clearTarget() {
   update();
 }
 
+const std::vector<float>& TissueView::shownValues() const {
+  static const std::vector<float> none;
+  if (snapshot_.empty()) return none;
+  if (mapValue_ < 0) return snapshot_.fields[int(field_)];
+  // The map at each outer triangle's rest centroid (Shepard's interpolation of the sites), once
+  // per geometry, map and value.
+  const TissueGeometry& g = *snapshot_.geometry;
+  const auto key = std::make_tuple(g.generation, static_cast<const void*>(mapField_.get()), mapValue_);
+  if (key != mapValuesKey_) {
+    mapValuesKey_ = key;
+    mapValues_.assign(g.triangleCount(), std::numeric_limits<float>::quiet_NaN());
+    if (mapField_)
+      for (int t = 0; t < g.triangleCount(); ++t) {
+        if (!g.outer[t]) continue;
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t v = g.triangles[3 * t + k];
+          c += Eigen::Vector3d(g.rest[3 * v], g.rest[3 * v + 1], g.rest[3 * v + 2]) / 3.0;
+        }
+        mapValues_[t] = float(mapField_->interpolated(c, MapField::Value(mapValue_)));
+      }
+  }
+  return mapValues_;
+}
+
+QString TissueView::shownTitle() const {
+  if (mapValue_ >= 0)
+    return QStringLiteral("%1 (%2)").arg(QString::fromUtf8(mapValueInfo(mapValue_).name),
+                                         QString::fromUtf8(mapValueInfo(mapValue_).unit));
+  return QStringLiteral("%1 (%2)").arg(QString::fromUtf8(fieldName(field_)),
+                                       QString::fromUtf8(fieldUnit(field_)));
+}
+
+void TissueView::setMap(std::shared_ptr<const MapField> map, std::vector<Eigen::Vector3d> sites) {
+  mapField_ = std::move(map);
+  mapSites_ = std::move(sites);
+  if (mapValue_ >= 0) {
+    buffersDirty_ = true;
+    updateRange();
+  }
+  update();
+}
+
+void TissueView::setMapValue(int v) {
+  v = v >= 0 && v < MapField::kValueCount ? v : -1;
+  if (v == mapValue_) return;
+  mapValue_ = v;
+  buffersDirty_ = true;
+  updateRange();
+  update();
+}
+
 void TissueView::updateRange() {
   const double oldLo = map_.lo(), oldHi = map_.hi();
   if (!snapshot_.empty()) {
-    const AutoRange r =
-        tp::gui::autoRange(snapshot_, field_, map_.diverging() || quantityInfo(field_).change);
+    const bool diverging = map_.diverging() || (mapValue_ < 0 && quantityInfo(field_).change);
+    const AutoRange r = mapValue_ >= 0 ? tp::gui::autoRange(shownValues(), false, diverging)
+                                       : tp::gui::autoRange(snapshot_, field_, diverging);
     dataLo_ = r.dataLo;
     dataHi_ = r.dataHi;
     if (autoRange_) map_.setRange(r.lo, r.hi);
@@ -334,13 +389,15 @@ void TissueView::updateHover(const QPoint& pixel) {
     const auto& g = *snapshot_.geometry;
     const double volume =
         cell < static_cast<int>(snapshot_.cellVolumes.size()) ? snapshot_.cellVolumes[cell] : 0;
-    const auto& values = snapshot_.fields[int(field_)];
+    const auto& values = shownValues();
     text = tr("Cell %1: volume %2 µm³").arg(g.cellLabels[cell]).arg(volume, 0, 'f', 1);
-    if (hit->triangle < static_cast<int>(values.size()))
+    if (hit->triangle < static_cast<int>(values.size()) && std::isfinite(values[hit->triangle]))
       text += tr(" · wall %1 %2 %3")
-                  .arg(QString::fromUtf8(fieldName(field_)))
+                  .arg(QString::fromUtf8(mapValue_ >= 0 ? mapValueInfo(mapValue_).name
+                                                        : fieldName(field_)))
                   .arg(values[hit->triangle], 0, 'g', 4)
-                  .arg(QString::fromUtf8(fieldUnit(field_)));
+                  .arg(QString::fromUtf8(mapValue_ >= 0 ? mapValueInfo(mapValue_).unit
+                                                        : fieldUnit(field_)));
   }
   emit hoverChanged(text);
   update();
@@ -420,6 +477,13 @@ void TissueView::mouseReleaseEvent(QMouseEvent* e) {
       emit pickRejected(tr("Pick a site on the outer surface (this is an inner wall)"));
     } else if (g->clampedTriangle[hit->triangle]) {
       emit pickRejected(tr("Pick a site on the free surface (this part is clamped)"));
+    } else if (mapValue_ >= 0) {  // the map is shown: a click asks for a map site's curve
+      Eigen::Vector3d rest = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = g->triangles[3 * hit->triangle + k];
+        rest += hit->barycentric[k] * Eigen::Vector3d(g->rest[3 * v], g->rest[3 * v + 1], g->rest[3 * v + 2]);
+      }
+      emit mapPointPicked(rest);
     } else {
       emit sitePicked(g->generation, hit->triangle, hit->barycentric);
     }
@@ -519,33 +583,50 @@ void TissueView::setSiteMarkers(std::vector<SiteMarker> markers) {
 // section) as a faint ring, so that sites on the far side are not mistaken for near ones; the
 // selected curve's site larger, ringed in yellow.
 void TissueView::paintSiteMarkers(QPainter& p, const QSize& size, double scale) const {
-  if (markers_.empty() || snapshot_.empty()) return;
+  const bool showMap = mapValue_ >= 0 && !mapSites_.empty();
+  if ((markers_.empty() && !showMap) || snapshot_.empty()) return;
   ensurePicker();
   Camera cam = camera_;
   cam.setViewport(size.width(), size.height());
   const std::optional<ClipPlane> clip = clipPlane();
+  const Eigen::Vector3d eye = cam.eye();
+  // Where a point on the surface is drawn, and whether the tissue (or the section) hides it.
+  auto place = [&](const Eigen::Vector3d& x, QPointF* at, bool* hidden) {
+    const Eigen::Vector3d px = cam.project(x);
+    if (!(px.z() > -1 && px.z() < 1)) return false;  // behind the eye or beyond the far plane
+    const double toSite = (x - eye).norm();
+    Ray ray;
+    ray.origin = eye;
+    ray.direction = (x - eye) / toSite;
+    const std::optional<Hit> hit = picker_.pick(ray, {}, clip);
+    // The site lies on the surface it was picked on; the state shown may have moved it a little
+    // (a dimple, a deformation scale): a hit within a cell's fraction in front still counts.
+    const double tolerance = std::max(0.5, 0.02 * toSite) + deformationScale_ * 0.5;
+    *hidden = (hit && hit->distance < toSite - tolerance) || (clip && !clip->keeps(x));
+    *at = QPointF(px.x(), px.y());
+    return true;
+  };
   p.save();
   p.setRenderHint(QPainter::Antialiasing);
+  // The map's sites: small dark dots ringed in white, the hidden ones left out.
+  if (showMap) {
+    p.setPen(QPen(QColor(255, 255, 255), 1.0 * scale));
+    p.setBrush(QColor(30, 30, 30));
+    for (const Eigen::Vector3d& x : mapSites_) {
+      QPointF c;
+      bool hidden = false;
+      if (place(x, &c, &hidden) && !hidden) p.drawEllipse(c, 2.5 * scale, 2.5 * scale);
+    }
+  }
   QFont font = p.font();
   font.setPointSizeF(8.0 * scale);
   font.setBold(true);
   p.setFont(font);
   for (const SiteMarker& m : markers_) {
-    const Eigen::Vector3d px = cam.project(m.position);
-    if (!(px.z() > -1 && px.z() < 1)) continue;  // behind the eye or beyond the far plane
-    const Eigen::Vector3d eye = cam.eye();
-    const double toSite = (m.position - eye).norm();
-    Ray ray;
-    ray.origin = eye;
-    ray.direction = (m.position - eye) / toSite;
-    const std::optional<Hit> hit = picker_.pick(ray, {}, clip);
-    // The site lies on the surface it was picked on; the state shown may have moved it a little
-    // (a dimple, a deformation scale): a hit within a cell's fraction in front still counts.
-    const double tolerance = std::max(0.5, 0.02 * toSite) + deformationScale_ * 0.5;
-    const bool hidden = (hit && hit->distance < toSite - tolerance) ||
-                        (clip && !clip->keeps(m.position));
+    QPointF c;
+    bool hidden = false;
+    if (!place(m.position, &c, &hidden)) continue;
     const double r = (m.highlighted ? 10.0 : 7.5) * scale;
-    const QPointF c(px.x(), px.y());
     QColor fill = m.colour.isValid() ? m.colour : QColor(90, 90, 90);
     if (hidden) {
       fill.setAlpha(70);
@@ -578,8 +659,7 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
                placeholder_.isEmpty() ? tr("Loading the tissue…") : placeholder_);
     return;
   }
-  const QString title = QStringLiteral("%1 (%2)").arg(QString::fromUtf8(fieldName(field_)),
-                                                      QString::fromUtf8(fieldUnit(field_)));
+  const QString title = shownTitle();
   paintSiteMarkers(p, size, scale);
   paintColorBar(p, area, map_, title, scale, dataLo_, dataHi_);
   if (snapshot_.probeVisible) {
@@ -615,7 +695,7 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
 void TissueView::paintGL() {
   camera_.setViewport(width(), height());
   if (buffersDirty_ && renderer_.initialized()) {
-    buffers_.build(snapshot_, field_, map_);
+    buffers_.build(snapshot_, shownValues(), map_);
     renderer_.upload(buffers_);
     buffersDirty_ = false;
   }
@@ -634,7 +714,7 @@ QImage TissueView::renderImage(const QSize& size) {
   makeCurrent();
   if (renderer_.initialized()) {
     if (buffersDirty_) {
-      buffers_.build(snapshot_, field_, map_);
+      buffers_.build(snapshot_, shownValues(), map_);
       renderer_.upload(buffers_);
       buffersDirty_ = false;
     }

@@ -13,6 +13,9 @@
 #include <QTimer>
 
 #include <optional>
+#include <tuple>
+
+#include <memory>
 
 #include "Camera.h"
 #include "ColorMap.h"
@@ -21,6 +24,7 @@
 #include "SessionFile.h"
 #include "Snapshot.h"
 #include "SnapshotBuffers.h"
+#include "experiment/Map.h"
 
 namespace tp::gui {
 
@@ -50,6 +54,10 @@ class TissueView : public QOpenGLWidget {
   const Snapshot& snapshot() const { return source_; }
   const ColorMap& colorMap() const { return map_; }
   Field field() const { return field_; }
+  /// The map value the outer surface is coloured by (MapValues.h), −1 while a quantity is.
+  int mapValue() const { return mapValue_; }
+  /// The values drawn, one per triangle of the snapshot (a quantity's or the map's).
+  const std::vector<float>& shownValues() const;
   bool autoRange() const { return autoRange_; }
   std::optional<ClipPlane> clipPlane() const;
   /// paintGL calls since creation (frames per second = difference / time).
@@ -70,6 +78,12 @@ class TissueView : public QOpenGLWidget {
   /// The snapshot as drawn (positions and probe magnified by the deformation scale).
   const Snapshot& shownSnapshot() const { return snapshot_; }
   void setField(tp::gui::Field field);
+  /// A stiffness map to colour the outer surface by (null: none), and where its sites are
+  /// (µm, turgid surface), drawn as dots while the map is shown.
+  void setMap(std::shared_ptr<const tp::MapField> map, std::vector<Eigen::Vector3d> sites);
+  /// Colours the outer surface by map value `v` (0 stiffness, 1 force, 2 Hertz; −1: by the
+  /// quantity again). While a map value is shown a click asks for a map site's curve.
+  void setMapValue(int v);
   void setColorMapKind(tp::gui::ColorMap::Kind kind);
   void setAutoRange(bool on);
   void setRange(double lo, double hi);
@@ -98,6 +112,8 @@ class TissueView : public QOpenGLWidget {
 
  signals:
   void sitePicked(int generation, int triangle, const Eigen::Vector3d& barycentric);
+  /// A click while the map is shown: the material point under it (µm, rest geometry).
+  void mapPointPicked(const Eigen::Vector3d& restPoint);
   void pickRejected(const QString& why);
   void hoverChanged(const QString& text);
   void depthRequested(double depth);
@@ -135,6 +151,12 @@ class TissueView : public QOpenGLWidget {
   void applyDeformationScale();
   ColorMap map_;
   Field field_ = Field::VonMises;
+  int mapValue_ = -1;
+  std::shared_ptr<const tp::MapField> mapField_;
+  std::vector<Eigen::Vector3d> mapSites_;
+  mutable std::vector<float> mapValues_;  // per triangle of the geometry mapValuesKey_ names
+  mutable std::tuple<int, const void*, int> mapValuesKey_{-1, nullptr, -1};
+  QString shownTitle() const;
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
   double dataLo_ = 0, dataHi_ = 1;

@@ -759,7 +759,8 @@ std::string mapTable(const MapPlan& plan, const std::vector<TaskResult>& results
   return o.str();
 }
 
-MapField::MapField(const MapPlan& plan, const std::vector<TaskResult>& results) {
+MapField::MapField(const MapPlan& plan, const std::vector<TaskResult>& results, double maxRadius)
+    : radius_(maxRadius) {
   for (const auto& r : results) {
     if (r.task < 0 || !r.converged()) continue;
     const MapSite& site = plan.site(r.task);
@@ -776,7 +777,7 @@ MapField::MapField(const MapPlan& plan, const std::vector<TaskResult>& results) 
   }
   if (!nearest.empty()) {
     std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
-    radius_ = 2.0 * nearest[nearest.size() / 2];
+    radius_ = std::min(radius_, 2.0 * nearest[nearest.size() / 2]);
   }
 }
 

@@ -138,14 +138,16 @@ TaskResult taskResult(int task, const ExperimentSettings& settings, const Experi
 
 /// A map's values over the surface, from its converged sites: at a point, the value of the
 /// nearest site, or Shepard's inverse-distance interpolation (power 2, Shepard 1968) of the
-/// sites within twice the median distance between neighbouring sites. A site is where its
+/// sites within twice the median distance between neighbouring sites (at most `maxRadius`: a
+/// map half done is not spread over the surface). A site is where its
 /// generated point is (a material point of the rest surface) or, for a listed site, where it was
 /// indented (its contact point). Units: µm, and those of the value.
 class MapField {
  public:
   enum Value { Stiffness, Force, Hertz };  // secant µN/µm, µN, MPa
   static constexpr int kValueCount = 3;
-  MapField(const MapPlan& plan, const std::vector<TaskResult>& results);
+  MapField(const MapPlan& plan, const std::vector<TaskResult>& results,
+           double maxRadius = std::numeric_limits<double>::infinity());
   bool empty() const { return sites_.empty(); }
   int siteCount() const { return static_cast<int>(sites_.size()); }
   double radius() const { return radius_; }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
+#include "mesh/Quality.h"
+
 namespace tp {
 
 namespace {
@@ -45,6 +47,15 @@ std::string tissueFileFilter() {
   for (const auto& f : tissueFormats())
     for (const auto& e : f.extensions) patterns += (patterns.empty() ? "*." : " *.") + e;
   return "Tissues (" + patterns + ")";
+}
+
+CellComplex readSimulationTissue(const std::string& path, TissueReadInfo* info) {
+  CellComplex cc = readTissue(path, info);
+  if (const ValidityReport report = checkValidity(cc); !report.ok())
+    throw std::runtime_error(path + ": not a valid tissue: " + report.summary());
+  if (const std::string problem = simulationProblem(cc); !problem.empty())
+    throw std::runtime_error(path + ": " + problem);
+  return cc;
 }
 
 }  // namespace tp

@@ -30,6 +30,11 @@ const std::vector<TissueFormat>& tissueFormats();
 /// formats known when the extension is not one of them.
 CellComplex readTissue(const std::string& path, TissueReadInfo* info = nullptr);
 
+/// readTissue, then the checks every simulation makes: a valid complex (checkValidity) that
+/// can be simulated (simulationProblem). Throws std::runtime_error naming the file and the
+/// problem.
+CellComplex readSimulationTissue(const std::string& path, TissueReadInfo* info = nullptr);
+
 /// "Tissues (*.ply)" for file dialogs.
 std::string tissueFileFilter();
 

@@ -293,6 +293,9 @@ TEST(MapResults, AMapFieldIsTheSiteValueAtASiteAndShepardBetween) {
   double d = 0;
   EXPECT_EQ(f.nearestTask(Vec3(1.2, 0, 5), &d), 1);  // not the failed site at 1 µm
   EXPECT_NEAR(d, 0.8, 1e-14);
+  // a cap on the radius: at 0.5 µm only the site at 0 µm is within 1 µm
+  EXPECT_EQ(MapField(plan, results, 1.0).interpolated(Vec3(0.5, 0, 5), MapField::Stiffness), 1.0);
+  EXPECT_DOUBLE_EQ(MapField(plan, results, 1.0).radius(), 1.0);
   EXPECT_TRUE(MapField(plan, {}).empty());
   EXPECT_EQ(MapField(plan, {}).nearestTask(Vec3::Zero()), -1);
 }

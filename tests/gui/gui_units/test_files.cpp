@@ -186,6 +186,64 @@ class FilesTest : public QObject {
     QVERIFY(!sessionFromJson(j, "s.json").display->camera);
   }
 
+  void sessionKeepsTheStiffnessMap() {
+    // A map of three sites, two done (one failed), its parameters and the map quantity shown.
+    SessionState s;
+    SessionMap m;
+    m.plan.tissue = "/data/meristem.ply";
+    m.plan.tissueDigest = "V 10, T 20, C 3, fnv 0123";
+    for (int k = 0; k < 3; ++k) {
+      tp::MapSite site;
+      site.kind = k == 2 ? tp::SiteKind::Junction : tp::SiteKind::CellMiddle;
+      site.label = "cell " + std::to_string(k);
+      site.point = Eigen::Vector3d(k, -k, 40.0 + 1.0 / 3.0);
+      m.plan.sites.push_back(site);
+    }
+    m.params.pressure = 0;
+    m.params.youngModulus = 123.5;
+    m.results.resize(3);
+    m.results[0].task = 0;
+    m.results[0].status = "converged";
+    m.results[0].secant = 2.0 / 3.0;
+    m.results[0].curve = {{0.0, 0.0}, {0.25, 0.1 / 3.0}};
+    m.results[2].task = 2;
+    m.results[2].status = "failed";
+    m.results[2].message = "no contact";
+    s.map = m;
+    DisplaySettings d;
+    d.quantity = "map_hertz";
+    s.display = d;
+    const SessionState r = sessionFromJson(nlohmann::json::parse(sessionToJson(s).dump()), "t");
+    QVERIFY(r.map);
+    QCOMPARE(r.map->plan.sites.size(), std::size_t(3));
+    QCOMPARE(r.map->plan.sites[1].point, m.plan.sites[1].point);  // bit for bit
+    QVERIFY(r.map->plan.sites[2].kind == tp::SiteKind::Junction);
+    QCOMPARE(r.map->plan.tissue, m.plan.tissue);
+    QCOMPARE(r.map->params.youngModulus, 123.5);
+    QCOMPARE(r.map->params.pressure, 0.0);
+    QCOMPARE(r.map->results.size(), std::size_t(3));
+    QCOMPARE(r.map->results[0].secant, 2.0 / 3.0);
+    QCOMPARE(r.map->results[0].curve, m.results[0].curve);
+    QCOMPARE(r.map->results[1].task, -1);  // not done
+    QCOMPARE(r.map->results[2].message, std::string("no contact"));
+    QCOMPARE(r.display->quantity, std::string("map_hertz"));
+    QVERIFY(!sessionFromJson(sessionToJson(SessionState{}), "t").map);  // none: none
+    // Refused by name: a result of a task the plan does not have, a site without a point.
+    nlohmann::json j = sessionToJson(s);
+    j["map"]["results"][1]["task"] = 7;
+    QVERIFY2(message(j).find("map.results[1]: task 7 is not a task of the plan") != std::string::npos,
+             message(j).c_str());
+    j = sessionToJson(s);
+    j["map"]["plan"]["sites"][0].erase("point");
+    QVERIFY2(message(j).find("map.plan") != std::string::npos, message(j).c_str());
+    j = sessionToJson(s);
+    j["map"]["plan"]["vary"] = {{{"name", "E"}, {"values", {1, 2}}}};
+    QVERIFY2(message(j).find("a sweep, not a map") != std::string::npos, message(j).c_str());
+    j = sessionToJson(s);
+    j["display"]["quantity"] = "map_nothing";
+    QVERIFY(message(j).find("not a known quantity") != std::string::npos);
+  }
+
   void sessionFileKeepsTheTissueNextToIt() {
     QTemporaryDir dir;
     SessionState s;

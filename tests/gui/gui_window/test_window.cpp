@@ -29,6 +29,8 @@
 #include "DisplayPanel.h"
 #include "FileActions.h"
 #include "MainWindow.h"
+#include "MapPanel.h"
+#include "MapRunner.h"
 #include "ParameterPanel.h"
 #include "PlotPanel.h"
 #include "RecentFiles.h"
@@ -36,6 +38,7 @@
 #include "TestMain.h"
 #include "TissueView.h"
 #include "io/CurveCsv.h"
+#include "io/TextFile.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
 #include "tissue/Meristem.h"
@@ -752,6 +755,146 @@ class WindowTest : public QObject {
     p.youngModulus = 100;
     c_->setParams(p);
     waitIdle();
+  }
+
+  void stiffnessMapRunsShowsItsSitesAndIsSaved() {
+    // A map of the cell middles at the tissue's own mesh (level 0, fast), run from the dock.
+    SimulationParams p = c_->params();
+    p.autoMesh = false;
+    p.meshLevel = 0;
+    p.youngModulus = 100;
+    p.pressure = 0.8;
+    c_->setParams(p);
+    waitIdle();
+    MapRunner* runner = w_->mapRunner();
+    MapPanel* panel = w_->mapPanel();
+    panel->setCacheRoot(dir_.path() + "/maps");
+    panel->findChild<QComboBox*>("mapSites")->setCurrentIndex(0);  // cell middles
+    panel->findChild<QDoubleSpinBox*>("mapDepth")->setValue(0.2);
+    panel->findChild<QSpinBox*>("mapSteps")->setValue(3);
+    auto* start = panel->findChild<QPushButton*>("mapStart");
+    auto* show = panel->findChild<QPushButton*>("mapShow");
+    QVERIFY(start && show);
+    QVERIFY(!show->isEnabled());  // nothing to show yet
+    QSignalSpy finished(runner, &MapRunner::finished);
+    QTest::mouseClick(start, Qt::LeftButton);
+    QVERIFY(runner->running());
+    QVERIFY(!start->isEnabled());
+    QTRY_COMPARE_WITH_TIMEOUT(finished.count(), 1, 300000);
+    QVERIFY2(finished.first().at(0).toBool(), qPrintable(finished.first().at(2).toString()));
+    QVERIFY(runner->hasMap());
+    const SessionMap map = runner->map();
+    const std::vector<tp::MapSite> middles =
+        tp::cellMiddleSites(tp::readPly(tissue_.toStdString()));
+    QCOMPARE(map.plan.taskCount(), int(middles.size()));
+    QCOMPARE(runner->sitesDone(), int(middles.size()));
+    double lo = 1e300, hi = -1e300;
+    for (const tp::TaskResult& r : map.results) {
+      QVERIFY2(r.converged(), r.message.c_str());
+      QCOMPARE(r.level, 0);
+      QCOMPARE(r.depth, 0.2);
+      lo = std::min(lo, r.secant), hi = std::max(hi, r.secant);
+    }
+    QVERIFY(hi > lo);  // the sites differ
+    auto* bar = panel->findChild<QProgressBar*>("mapProgressBar");
+    QCOMPARE(bar->value(), bar->maximum());
+    QVERIFY(panel->findChild<QLabel*>("mapSummary")->text().contains("cell middles: median"));
+    // The table the folder holds is the one tissueprobe-cli map writes.
+    QVERIFY(QFile::exists(runner->folder() + "/map.csv"));
+
+    // Shown on the tissue: the outer surface coloured between the sites' values (Shepard's
+    // weights are convex), the colour bar named after the map.
+    QVERIFY(show->isEnabled());
+    QCoreApplication::processEvents();
+    const QImage before = view_->grabFramebuffer();
+    QTest::mouseClick(show, Qt::LeftButton);
+    QCOMPARE(w_->displayPanel()->mapValue(), 0);
+    QCOMPARE(view_->mapValue(), 0);
+    const auto& values = view_->shownValues();
+    const TissueGeometry& g = *c_->latest().geometry;
+    int outer = 0, coloured = 0;
+    for (int t = 0; t < g.triangleCount(); ++t) {
+      if (!g.outer[t]) {
+        QVERIFY(std::isnan(values[t]));
+        continue;
+      }
+      ++outer;
+      if (!std::isfinite(values[t])) continue;
+      ++coloured;
+      QVERIFY2(values[t] >= lo * (1 - 1e-6) && values[t] <= hi * (1 + 1e-6),
+               qPrintable(QString("%1 outside [%2, %3]").arg(values[t]).arg(lo).arg(hi)));
+    }
+    QVERIFY2(coloured > outer / 2, qPrintable(QString("%1 of %2").arg(coloured).arg(outer)));
+    QVERIFY(changedFraction(before, view_->grabFramebuffer()) > 0.05);
+
+    // A click on a site adds its curve (once) and names its numbers.
+    view_->setStandardView(Camera::StandardView::Top);
+    QCoreApplication::processEvents();
+    int task = -1;  // the site nearest the middle of the view, seen from above
+    double best = 1e300;
+    for (const tp::TaskResult& r : map.results) {
+      const double d = (pixelOf(view_, r.contact) - view_->rect().center()).manhattanLength();
+      if (d < best) best = d, task = r.task;
+    }
+    const tp::TaskResult& r = map.results[task];
+    const int curves = int(c_->curves().size());
+    const int prepared = c_->latest().preparation;
+    QTest::mouseClick(view_, Qt::LeftButton, {}, pixelOf(view_, r.contact));
+    QCOMPARE(int(c_->curves().size()), curves + 1);
+    const NamedCurve& curve = c_->curves().back();
+    QVERIFY2(curve.name.rfind("map " + map.plan.site(task).label + " ", 0) == 0, curve.name.c_str());
+    QCOMPARE(int(curve.points.size()), 4);
+    QCOMPARE(curve.points.back().force, r.force);
+    QCOMPARE(curve.points.back().depth, 0.2);
+    QCOMPARE(curve.meshLevel, 0);
+    QTest::mouseClick(view_, Qt::LeftButton, {}, pixelOf(view_, r.contact));
+    QCOMPARE(int(c_->curves().size()), curves + 1);  // not twice
+    QTest::qWait(500);
+    QCOMPARE(c_->latest().preparation, prepared);  // a click on the map prepares no new site
+
+    // Exported as the CLI writes them, byte for byte.
+    QString error;
+    const QString table = dir_.path() + "/exported-map.csv", surface = dir_.path() + "/map.vtu";
+    QVERIFY2(w_->fileActions()->exportMapTable(table, &error), qPrintable(error));
+    QVERIFY2(w_->fileActions()->exportMapSurface(surface, &error), qPrintable(error));
+    QCOMPARE(tp::readTextFile(table.toStdString(), "t"),
+             tp::readTextFile((runner->folder() + "/map.csv").toStdString(), "t"));
+    QCOMPARE(tp::readTextFile(surface.toStdString(), "s"),
+             tp::readTextFile((runner->folder() + "/map-surface.vtu").toStdString(), "s"));
+
+    // Saved in the session and back, shown as it was.
+    const QString session = dir_.path() + "/map-session.json";
+    QVERIFY2(w_->fileActions()->saveSession(session, &error), qPrintable(error));
+    const std::vector<tp::TaskResult> saved = map.results;
+    runner->clear();
+    w_->displayPanel()->applySettings(DisplaySettings{});
+    QVERIFY(!runner->hasMap());
+    const int preparation = c_->latest().preparation;
+    QVERIFY2(w_->fileActions()->openSession(session, &error), qPrintable(error));
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
+    waitIdle();
+    QVERIFY(runner->hasMap());
+    QCOMPARE(int(runner->map().results.size()), int(saved.size()));
+    for (size_t k = 0; k < saved.size(); ++k) {
+      QCOMPARE(runner->map().results[k].secant, saved[k].secant);  // bit for bit
+      QCOMPARE(runner->map().results[k].curve, saved[k].curve);
+    }
+    QCOMPARE(view_->mapValue(), 0);
+    QVERIFY(runner->field() && runner->field()->siteCount() == int(saved.size()));
+
+    // Another map, cancelled at once: it stops, keeps what is done, and Start is back.
+    finished.clear();
+    panel->findChild<QComboBox*>("mapSites")->setCurrentIndex(1);  // junctions
+    QVERIFY(panel->startMap());
+    runner->cancel();
+    QTRY_COMPARE_WITH_TIMEOUT(finished.count(), 1, 120000);
+    QVERIFY(!finished.first().at(0).toBool());
+    QVERIFY(finished.first().at(1).toBool());
+    QVERIFY(!runner->running());
+    QVERIFY(start->isEnabled());
+    w_->displayPanel()->applySettings(DisplaySettings{});
+    QCOMPARE(view_->mapValue(), -1);
+    view_->resetView();
   }
 
   void clearAsksFirst() {
