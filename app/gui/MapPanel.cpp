@@ -211,6 +211,7 @@ void MapPanel::updateSummary() {
   const SessionMap& m = runner_->map();
   // Per kind of site: how many are done, and the median and range of their secant stiffness.
   std::map<std::string, std::vector<double>> byKind;
+  std::map<std::string, double> worstError;  // the largest estimated mesh error; < 0 unknown
   int done = 0, failed = 0;
   double depth = 0;
   for (const TaskResult& r : m.results) {
@@ -220,7 +221,10 @@ void MapPanel::updateSummary() {
       ++failed;
       continue;
     }
-    byKind[toString(m.plan.site(r.task).kind)].push_back(r.secant);
+    const std::string kind = toString(m.plan.site(r.task).kind);
+    byKind[kind].push_back(r.secant);
+    const bool known = !worstError.count(kind) || worstError[kind] >= 0;
+    worstError[kind] = known && r.meshError >= 0 ? std::max(worstError[kind], r.meshError) : -1.0;
     depth = r.depth;
   }
   QString text = tr("%1 of %2 sites done").arg(done).arg(m.plan.taskCount());
@@ -228,14 +232,17 @@ void MapPanel::updateSummary() {
   if (!byKind.empty()) text += tr(". Secant stiffness at %1 µm:").arg(depth, 0, 'g', 3);
   for (const auto& [kind, values] : byKind) {
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    text += tr("\n%1: median %2 µN/µm, %3–%4 (%5 sites)")
+    const double e = worstError[kind];
+    text += tr("\n%1: median %2 µN/µm, %3–%4 (%5 sites; %6)")
                 .arg(kind == "cells" ? tr("cell middles")
                      : kind == "junctions" ? tr("junctions")
                      : QString::fromStdString(kind))
                 .arg(median(values), 0, 'g', 3)
                 .arg(*lo, 0, 'g', 3)
                 .arg(*hi, 0, 'g', 3)
-                .arg(values.size());
+                .arg(values.size())
+                .arg(e >= 0 ? tr("mesh error up to ±%1 %").arg(100 * e, 0, 'g', 2)
+                            : tr("mesh error not estimated at every site"));
   }
   summary_->setText(text);
 }

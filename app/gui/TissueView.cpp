@@ -43,11 +43,17 @@ TissueView::TissueView(QWidget* parent) : QOpenGLWidget(parent) {
     awaitingSnapshot_ = false;
     sendPendingDepth();
   });
+  updateToolTip();
+}
+
+void TissueView::updateToolTip() {
   setToolTip(
       tr("Left drag: turn · Shift+left or middle drag: pan · Wheel: zoom\n"
-         "Click on the surface: indentation site · Right or Ctrl+left drag: probe depth\n"
+         "%1 · Right or Ctrl+left drag: probe depth\n"
          "Keys: arrows turn, +/- zoom, F fit, 1/3/7 front/right/top, R reset, "
-         "Z zoom to the probe"));
+         "Z zoom to the probe")
+          .arg(mapValue_ >= 0 ? tr("Click a map site (dot): its curve")
+                              : tr("Click on the surface: indentation site")));
 }
 
 TissueView::~TissueView() {
@@ -229,6 +235,7 @@ void TissueView::setMapValue(int v) {
   v = v >= 0 && v < MapField::kValueCount ? v : -1;
   if (v == mapValue_) return;
   mapValue_ = v;
+  updateToolTip();
   buffersDirty_ = true;
   updateRange();
   update();

@@ -157,6 +157,7 @@ class TissueView : public QOpenGLWidget {
   mutable std::vector<float> mapValues_;  // per triangle of the geometry mapValuesKey_ names
   mutable std::tuple<int, const void*, int> mapValuesKey_{-1, nullptr, -1};
   QString shownTitle() const;
+  void updateToolTip();
   bool autoRange_ = true;
   double lo_ = 0, hi_ = 1;  // manual range
   double dataLo_ = 0, dataHi_ = 1;
