@@ -159,6 +159,14 @@ void MainWindow::createMenus() {
       [this] { view_->resetView(); });
   add(viewMenu_, tr("&Zoom to the probe"), QKeySequence(Qt::Key_Z),
       tr("Frame the probe and the cells around it (Z)"), [this] { view_->zoomToProbe(); });
+  frameSite_ = viewMenu_->addAction(tr("Frame a &picked site"));
+  frameSite_->setObjectName("frameSiteAction");
+  frameSite_->setCheckable(true);
+  frameSite_->setChecked(QSettings().value("view/frameSite", true).toBool());
+  frameSite_->setToolTip(tr("After a click picks a site, look at it from close by (as Z does), "
+                            "so that a 1 µm dimple can be seen"));
+  connect(frameSite_, &QAction::toggled, this,
+          [](bool on) { QSettings().setValue("view/frameSite", on); });
   QAction* arcball = viewMenu_->addAction(tr("&Arcball rotation"));
   arcball->setCheckable(true);
   arcball->setToolTip(tr("Turn freely (arcball) instead of about the vertical axis (turntable)"));
@@ -309,6 +317,17 @@ void MainWindow::wire() {
   connect(c, &SimulationController::runProgress, params_, &ParameterPanel::setProgress);
   // The view.
   connect(view_, &TissueView::sitePicked, c, &SimulationController::pickSite);
+  // A picked site is framed once it is prepared (View ▸ Frame a picked site); the view has the
+  // snapshot by then (connected first).
+  connect(view_, &TissueView::sitePicked, this,
+          [this] { framePending_ = frameSite_->isChecked() && !controller_->running(); });
+  connect(c, &SimulationController::snapshotReady, this, [this](const Snapshot& s) {
+    if (!framePending_ || s.phase != Snapshot::Phase::Prepared || !s.newSite) return;
+    framePending_ = false;
+    view_->zoomToProbe();
+  });
+  connect(c, &SimulationController::solveFailed, this, [this] { framePending_ = false; });
+  connect(c, &SimulationController::settingsRefused, this, [this] { framePending_ = false; });
   connect(view_, &TissueView::pickRejected, this,
           [this](const QString& why) { statusBar()->showMessage(why, 5000); });
   connect(view_, &TissueView::hoverChanged, hoverLabel_, &QLabel::setText);

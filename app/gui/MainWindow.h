@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+class QAction;
 class QDockWidget;
 class QLabel;
 class QMenu;
@@ -67,6 +68,8 @@ class MainWindow : public QMainWindow {
   MapRunner* mapRunner_;
   MapPanel* mapPanel_;
   QDockWidget* mapDock_ = nullptr;
+  QAction* frameSite_ = nullptr;  // View ▸ Frame a picked site
+  bool framePending_ = false;     // a site was picked: frame it once it is prepared
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;
   BusyIndicator* busy_;

@@ -3,6 +3,7 @@
 // synthetic mouse events, curves are run and cancelled with the keyboard, files are exported and
 // read back, a session is saved and reopened, a bad file is refused with a message, and a
 // screenshot of the whole window is written and checked for content.
+#include <QAction>
 #include <QApplication>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -166,10 +167,19 @@ class WindowTest : public QObject {
     QVERIFY(hit);
     QVERIFY((hit->point - top).norm() < 1.0);  // the pixel shows the top
     const int preparation = c_->latest().preparation;
+    const double distance = view_->cameraPose().distance;
     QTest::mouseClick(view_, Qt::LeftButton, {}, p);
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
     waitIdle();
     const Snapshot& s = c_->latest();
+    // View ▸ Frame a picked site (on by default): the camera looks at the probe from close by.
+    QVERIFY(w_->findChild<QAction*>("frameSiteAction")->isChecked());
+    QVERIFY2((view_->cameraPose().target - s.probeCenter()).norm() < 2.0,
+             qPrintable(QString("target %1 µm from the probe")
+                            .arg((view_->cameraPose().target - s.probeCenter()).norm())));
+    QVERIFY2(view_->cameraPose().distance < 0.75 * distance,  // three cells across, not 15
+             qPrintable(QString("distance %1 → %2 µm").arg(distance).arg(view_->cameraPose().distance)));
+    view_->resetView();
     QVERIFY2((s.site - top).norm() < 1.0,
              qPrintable(QString("site %1 µm from the click").arg((s.site - top).norm())));
     QVERIFY(s.probeVisible);
