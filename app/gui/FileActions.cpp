@@ -7,6 +7,7 @@
 #include <QSettings>
 
 
+#include "ContactPointDialog.h"
 #include "Curves.h"
 #include "PlotPanel.h"
 #include "RecentFiles.h"
@@ -235,16 +236,23 @@ void FileActions::exportScreenshotDialog() {
   report(exportScreenshot(path, dialog.imageSize(), &error), tr("screenshot"), path, error);
 }
 
-bool FileActions::importMeasuredCurve(const QString& path, QString* error) {
+bool FileActions::importMeasuredCurve(const QString& path, QString* error,
+                                      std::optional<double> contactHeight) {
   try {
     const std::string text = readTextFile(path.toStdString(), "curve");
     NamedCurve c;
     const QString file = QFileInfo(path).fileName();
     MeasuredCurve m;
     if (looksLikeJpkText(text)) {
-      const RawCurveReading r = parseJpkForceCurve(text, path.toStdString());
+      RawCurveOptions options;
+      options.contactHeight = contactHeight;
+      const RawCurveReading r = parseJpkForceCurve(text, path.toStdString(), options);
       m = r.curve;
-      c.name = tr("measured · %1 (contact at %2 µm)").arg(file).arg(r.contactHeight, 0, 'f', 2).toStdString();
+      c.name = tr("measured · %1 (contact at %2 µm%3)")
+                   .arg(file)
+                   .arg(r.contactHeight, 0, 'f', contactHeight ? 4 : 2)
+                   .arg(contactHeight ? tr(", chosen") : QString())
+                   .toStdString();
     } else {
       m = parseMeasuredCurve(text, path.toStdString());
       c.name = tr("measured · %1").arg(file).toStdString();
@@ -266,7 +274,20 @@ void FileActions::importMeasuredCurveDialog() {
       tr("Force curves (*.csv *.tsv *.txt *.dat);;All files (*)"));
   if (path.isEmpty()) return;
   QString error;
-  if (!importMeasuredCurve(path, &error)) {
+  // A raw JPK curve: its contact point shown, and moved if the user wants, before it is converted.
+  std::optional<double> contact;
+  try {
+    const std::string text = readTextFile(path.toStdString(), "curve");
+    if (looksLikeJpkText(text)) {
+      ContactPointDialog dialog(parseJpkForceCurve(text, path.toStdString()),
+                                QFileInfo(path).fileName(), window_);
+      if (dialog.exec() != QDialog::Accepted) return;
+      if (dialog.moved()) contact = dialog.contactHeight();
+    }
+  } catch (const std::exception&) {
+    // importMeasuredCurve reads it again and names the problem.
+  }
+  if (!importMeasuredCurve(path, &error, contact)) {
     showError(window_, tr("Cannot read the curve"), error);
     return;
   }

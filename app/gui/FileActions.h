@@ -9,6 +9,8 @@
 #include <QSize>
 #include <QString>
 
+#include <optional>
+
 class QWidget;
 
 namespace tp::gui {
@@ -40,9 +42,10 @@ class FileActions : public QObject {
   bool exportCurrentCurve(const QString& path, QString* error);
   bool exportScreenshot(const QString& path, const QSize& size, QString* error);
   /// A measured force–indentation curve (a table with units in its header, or a JPK text
-  /// export converted at its estimated contact point) added to the plot. False with a message
-  /// naming the file, line and value.
-  bool importMeasuredCurve(const QString& path, QString* error);
+  /// export converted at `contactHeight`, µm, else at its estimated contact point) added to the
+  /// plot. False with a message naming the file, line and value.
+  bool importMeasuredCurve(const QString& path, QString* error,
+                           std::optional<double> contactHeight = std::nullopt);
   /// The stiffness map's table (CSV) and its surface (VTU), as `tissueprobe-cli map` writes them.
   bool exportMapTable(const QString& path, QString* error);
   bool exportMapSurface(const QString& path, QString* error);

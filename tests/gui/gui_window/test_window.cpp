@@ -7,6 +7,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QLabel>
 #include <QListWidget>
 #include <QMessageBox>
 #include <QProgressBar>
@@ -27,6 +28,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "ContactPointDialog.h"
 #include "DisplayPanel.h"
 #include "FileActions.h"
 #include "MainWindow.h"
@@ -39,6 +41,7 @@
 #include "TestMain.h"
 #include "TissueView.h"
 #include "io/CurveCsv.h"
+#include "io/JpkCurve.h"
 #include "io/TextFile.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
@@ -505,6 +508,48 @@ class WindowTest : public QObject {
     if (QFile::exists(jpk)) {
       QVERIFY2(w_->fileActions()->importMeasuredCurve(jpk, &error), qPrintable(error));
       QVERIFY(QString::fromStdString(c_->curves().back().name).contains("contact at 31.46 µm"));
+      auto deepestOf = [](const NamedCurve& c) {
+        double d = 0;
+        for (const tp::CurvePoint& p : c.points) d = std::max(d, p.depth);
+        return d;
+      };
+      const double deepest = deepestOf(c_->curves().back());
+      c_->removeCurve(int(c_->curves().size()) - 1);
+      // The contact point is shown and can be moved before the curve is converted: a click on
+      // the dialog's plot moves it there; the estimate is kept until it is moved.
+      const tp::RawCurveReading reading = tp::readJpkForceCurve(jpk.toStdString());
+      ContactPointDialog dialog(reading, "jpk.txt");
+      dialog.resize(700, 500);
+      dialog.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&dialog));
+      QVERIFY(!dialog.moved());
+      QCOMPARE(dialog.contactHeight(), reading.contactHeight);
+      QCPAxis* x = dialog.plot()->xAxis;
+      const QPoint at(int(x->coordToPixel(reading.contactHeight - 0.2)),
+                      dialog.plot()->height() / 2);
+      QTest::mouseClick(dialog.plot(), Qt::LeftButton, {}, at);
+      QVERIFY(dialog.moved());
+      QVERIFY2(std::abs(dialog.contactHeight() - (reading.contactHeight - 0.2)) <
+                   2 * std::abs(x->pixelToCoord(1) - x->pixelToCoord(0)),
+               qPrintable(QString::number(dialog.contactHeight())));
+      QVERIFY(dialog.findChild<QLabel*>("contactResult")->text().contains("moved"));
+      // Converted there, named as chosen.
+      QVERIFY2(w_->fileActions()->importMeasuredCurve(jpk, &error, reading.contactHeight - 0.2),
+               qPrintable(error));
+      QVERIFY(QString::fromStdString(c_->curves().back().name).contains(", chosen"));
+      // The same conversion as core's at that point, point for point; the deepest indentation
+      // 0.2 µm less, up to the force re-zeroed at the new contact (the baseline's noise / k).
+      tp::RawCurveOptions moved;
+      moved.contactHeight = reading.contactHeight - 0.2;
+      const tp::MeasuredCurve core = tp::readJpkForceCurve(jpk.toStdString(), moved).curve;
+      QCOMPARE(c_->curves().back().points.size(), core.depth.size());
+      for (size_t k = 0; k < core.depth.size(); ++k) {
+        QCOMPARE(c_->curves().back().points[k].depth, core.depth[k]);
+        QCOMPARE(c_->curves().back().points[k].force, core.force[k]);
+      }
+      QVERIFY2(std::abs(deepestOf(c_->curves().back()) - (deepest - 0.2)) <
+                   5 * reading.noise / reading.springConstant,
+               qPrintable(QString("%1 → %2 µm").arg(deepest, 0, 'g', 12).arg(deepestOf(c_->curves().back()), 0, 'g', 12)));
       c_->removeCurve(int(c_->curves().size()) - 1);
     }
     // A bad table is refused with the file, line and value.
