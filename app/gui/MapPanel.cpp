@@ -151,6 +151,7 @@ MapPanel::MapPanel(MapRunner* runner, SimulationController* controller, QWidget*
   connect(runner_, &MapRunner::mapChanged, this, &MapPanel::updateState);
   connect(runner_, &MapRunner::finished, this,
           [this](bool complete, bool cancelled, const QString& message) {
+            if (progress_->maximum() == 0) progress_->setRange(0, 1);  // ended before its sites
             if (complete) progress_->setValue(progress_->maximum());
             QString text = complete ? tr("Map complete.")
                            : cancelled ? QString()

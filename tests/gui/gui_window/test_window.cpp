@@ -947,6 +947,7 @@ class WindowTest : public QObject {
     QVERIFY(finished.first().at(1).toBool());
     QVERIFY(!runner->running());
     QVERIFY(start->isEnabled());
+    QVERIFY(bar->maximum() > 0);  // not left running as busy
     w_->displayPanel()->applySettings(DisplaySettings{});
     QCOMPARE(view_->mapValue(), -1);
     view_->resetView();
