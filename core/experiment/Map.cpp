@@ -781,20 +781,22 @@ MapField::MapField(const MapPlan& plan, const std::vector<TaskResult>& results, 
   }
 }
 
-int MapField::nearestTask(const Vec3& x, double* distance) const {
+int MapField::nearestSite(const Vec3& x, double* distance) const {
   int best = -1;
   double d2 = std::numeric_limits<double>::infinity();
   for (size_t a = 0; a < sites_.size(); ++a)
     if (const double e = (sites_[a].x - x).squaredNorm(); e < d2) d2 = e, best = static_cast<int>(a);
   if (distance) *distance = std::sqrt(d2);
+  return best;
+}
+
+int MapField::nearestTask(const Vec3& x, double* distance) const {
+  const int best = nearestSite(x, distance);
   return best < 0 ? -1 : sites_[best].task;
 }
 
 double MapField::nearest(const Vec3& x, Value v) const {
-  int best = -1;
-  double d2 = std::numeric_limits<double>::infinity();
-  for (size_t a = 0; a < sites_.size(); ++a)
-    if (const double e = (sites_[a].x - x).squaredNorm(); e < d2) d2 = e, best = static_cast<int>(a);
+  const int best = nearestSite(x);
   return best < 0 ? std::numeric_limits<double>::quiet_NaN() : sites_[best].value[v];
 }
 

@@ -157,6 +157,7 @@ class MapField {
   double interpolated(const Vec3& x, Value v) const;  // NaN beyond the radius of every site
 
  private:
+  int nearestSite(const Vec3& x, double* distance = nullptr) const;  // index, −1 without sites
   struct Site {
     Vec3 x;
     int task;
