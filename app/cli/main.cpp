@@ -142,27 +142,23 @@ Vec3 parseVec3(const std::string& text, const std::string& option) {
   return v;
 }
 
-CellComplex loadTissue(const std::string& path) {
-  PlyInfo info;
-  CellComplex cc = readTissue(path, &info);
-  const std::string problem = simulationProblem(cc);
-  if (!problem.empty()) throw std::runtime_error(path + ": " + problem);
-  return cc;
-}
+CellComplex loadTissue(const std::string& path) { return readSimulationTissue(path); }
 
 struct IndentArgs {
   std::string mesh;
-  double E = 100.0, nu = 0.49, thickness = 0.2, pressure = 0.8;
-  std::string bending = "koiter";
-  std::string junctions = "hinged";
-  double probeRadius = 1.0;
+  // Defaults are core's, as in the application.
+  double E = Material{}.youngModulus, nu = Material{}.poissonRatio, thickness = Material{}.thickness,
+         pressure = ExperimentSettings{}.pressure;
+  std::string bending = toString(Material{}.bending);
+  std::string junctions = toString(Material{}.junctions);
+  double probeRadius = IndentationSettings{}.probeRadius;
   std::string site, axis;
   std::optional<double> depth, force;
-  int steps = 10;
+  int steps = IndentationSettings{}.steps;
   bool unload = false;
   bool noPredictor = false;
   std::string refine = "auto";
-  double meshTolerance = 0.03;
+  double meshTolerance = MeshSettings{}.tolerance;
   std::string csv, vtu;
   double tolerance = 1e-8;
   std::string solver = "newton";

@@ -55,7 +55,7 @@ QWidget* ParameterPanel::buildMaterialGroup() {
   E_ = spin(0.1, 10000, 1, 10, tr(" MPa"),
             tr("Young's modulus E of the cell walls (MPa). AFM on the meristem's outer wall reads "
                "1.5–5 MPa apparent; measured wall moduli span 1–1000 MPa."));
-  nu_ = spin(0.0, 0.499, 3, 0.01, QString(),
+  nu_ = spin(0.0, 0.5, 3, 0.01, QString(),
              tr("Poisson ratio ν of the walls (the study used 0.49)."));
   h_ = spin(0.01, 5, 3, 0.05, tr(" µm"), tr("Wall thickness h (µm), typically 0.1–1 µm."));
   p_ = spin(0.0, 5, 3, 0.1, tr(" MPa"),

@@ -68,7 +68,7 @@ ExperimentSettings SimulationParams::experimentSettings() const {
 }
 
 SimulationParams turgidPreset(SimulationParams p) {
-  p.pressure = 0.8;
+  p.pressure = ExperimentSettings{}.pressure;  // the default turgor is the turgid state
   return p;
 }
 
@@ -80,10 +80,11 @@ SimulationParams plasmolysedPreset(SimulationParams p) {
 std::string describe(const SimulationParams& p) {
   std::ostringstream s;
   s << "E " << p.youngModulus << " MPa, p " << p.pressure << " MPa, r " << p.probeRadius << " µm";
-  if (p.thickness != 0.2) s << ", h " << p.thickness << " µm";
-  if (p.poissonRatio != 0.49) s << ", ν " << p.poissonRatio;
-  if (p.bending != BendingModel::Koiter) s << ", " << toString(p.bending) << " bending";
-  else if (p.junctions != JunctionRule::Hinged) s << ", " << toString(p.junctions) << " junctions";
+  const SimulationParams d;  // only what differs from the defaults is named
+  if (p.thickness != d.thickness) s << ", h " << p.thickness << " µm";
+  if (p.poissonRatio != d.poissonRatio) s << ", ν " << p.poissonRatio;
+  if (p.bending != d.bending) s << ", " << toString(p.bending) << " bending";
+  else if (p.junctions != d.junctions) s << ", " << toString(p.junctions) << " junctions";
   if (!p.autoMesh) s << ", mesh level " << p.meshLevel;
   return s.str();
 }

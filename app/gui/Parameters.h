@@ -11,19 +11,21 @@
 
 namespace tp::gui {
 
+// Every default is core's (Material, ExperimentSettings, IndentationSettings, MeshSettings), so
+// the window, the command line and the benchmarks start from the same values.
 struct SimulationParams {
-  double youngModulus = 100.0;  // E, MPa
-  double poissonRatio = 0.49;   // ν
-  double thickness = 0.2;       // h, µm
-  double pressure = 0.8;        // turgor p of every cell, MPa
-  BendingModel bending = BendingModel::Koiter;
-  JunctionRule junctions = JunctionRule::Hinged;  // how walls share rotation at a junction (Koiter)
-  double probeRadius = 1.0;  // µm
+  double youngModulus = Material{}.youngModulus;    // E, MPa
+  double poissonRatio = Material{}.poissonRatio;    // ν
+  double thickness = Material{}.thickness;          // h, µm
+  double pressure = ExperimentSettings{}.pressure;  // turgor p of every cell, MPa
+  BendingModel bending = Material{}.bending;
+  JunctionRule junctions = Material{}.junctions;  // how walls share rotation at a junction (Koiter)
+  double probeRadius = IndentationSettings{}.probeRadius;  // µm
   // The mesh at the site (core/experiment/Experiment.h): automatic (refined level by level
   // until the estimated discretisation error is within meshTolerance) or a fixed level.
-  bool autoMesh = true;
-  int meshLevel = 3;            // the fixed level (0 = the tissue as loaded)
-  double meshTolerance = 0.03;  // relative
+  bool autoMesh = MeshSettings{}.automatic;
+  int meshLevel = MeshSettings{}.level;            // the fixed level (0 = the tissue as loaded)
+  double meshTolerance = MeshSettings{}.tolerance;  // relative
 
   Material material() const;
   /// The core's settings for these parameters (probe, material, turgor, mesh).
@@ -39,11 +41,11 @@ SimulationParams plasmolysedPreset(SimulationParams p);
 std::string describe(const SimulationParams& p);
 
 struct Schedule {
-  Control control = Control::Depth;
-  double maxDepth = 0.5;  // µm (depth control)
-  double maxForce = 20;   // µN (force control)
-  int steps = 10;
-  bool unload = false;
+  Control control = IndentationSettings{}.control;
+  double maxDepth = IndentationSettings{}.maxDepth;  // µm (depth control)
+  double maxForce = IndentationSettings{}.maxForce;  // µN (force control)
+  int steps = IndentationSettings{}.steps;
+  bool unload = IndentationSettings{}.unload;
   bool operator==(const Schedule&) const = default;
 };
 

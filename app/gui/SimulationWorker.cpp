@@ -230,20 +230,10 @@ void SimulationWorker::handle(const Load& r) {
   }
   emit busy(tr("Reading %1…").arg(q(path)));
   CellComplex cc;
-  try {
-    cc = readTissue(path);
-  } catch (const std::exception& e) {  // PlyError names the file and the line
+  try {  // the same reading and checks as the command line: a valid tissue that can be simulated
+    cc = readSimulationTissue(path);
+  } catch (const std::exception& e) {  // names the file, and the line or the problem
     emit loadFailed(q(path), QString::fromUtf8(e.what()));
-    return;
-  }
-  // The same checks as the command line: a valid complex that can be simulated.
-  const ValidityReport report = checkValidity(cc);
-  if (!report.ok()) {
-    emit loadFailed(q(path), tr("%1: not a valid tissue: %2").arg(q(path), q(report.summary())));
-    return;
-  }
-  if (const std::string problem = simulationProblem(cc); !problem.empty()) {
-    emit loadFailed(q(path), tr("%1: %2").arg(q(path), q(problem)));
     return;
   }
   // The new tissue replaces the old one only now that it is known to be good.

@@ -41,7 +41,7 @@ struct IndentationSettings {
   std::optional<Vec3> axis;         // into the tissue; default: inward surface normal at the site
   Control control = Control::Depth;
   double maxDepth = 0.5;            // µm (depth control)
-  double maxForce = 1.0;            // µN (force control)
+  double maxForce = 5.0;            // µN (force control; ~0.5 µm on the turgid default meristem)
   int steps = 10;
   bool unload = false;
   int maxSubdivisions = 5;          // a failed step is split up to 2^maxSubdivisions times

@@ -51,8 +51,7 @@ std::string tissueFileFilter() {
 
 CellComplex readSimulationTissue(const std::string& path, TissueReadInfo* info) {
   CellComplex cc = readTissue(path, info);
-  if (const ValidityReport report = checkValidity(cc); !report.ok())
-    throw std::runtime_error(path + ": not a valid tissue: " + report.summary());
+  // simulationProblem checks validity first and says what an invalid file probably is.
   if (const std::string problem = simulationProblem(cc); !problem.empty())
     throw std::runtime_error(path + ": " + problem);
   return cc;
