@@ -24,7 +24,10 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QStatusBar>
+#include <QTextBrowser>
 #include <QToolBar>
+#include <QVBoxLayout>
+#include <QFile>
 
 #include "BusyIndicator.h"
 #include "Curves.h"
@@ -174,6 +177,14 @@ void MainWindow::createMenus() {
     view_->setRotationMode(on ? Camera::RotationMode::Arcball : Camera::RotationMode::Turntable);
   });
 
+  presentation_ = add(viewMenu_, tr("&Presentation"), QKeySequence(Qt::Key_F5),
+                      tr("For a lecture: large fonts, a high-contrast overlay, only the tissue and "
+                         "the curves (F5 again to go back)"),
+                      [] {});
+  presentation_->setObjectName("presentationAction");
+  presentation_->setCheckable(true);
+  connect(presentation_, &QAction::toggled, this, &MainWindow::setPresentation);
+
   QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
   QAction* run =
       add(sim, tr("&Run curve"), QKeySequence(Qt::Key_Space),
@@ -201,6 +212,10 @@ void MainWindow::createMenus() {
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   add(help, tr("&Mouse and keys"), QKeySequence::HelpContents, tr("How to drive the 3D view"),
       [this] { showControls(); });
+  add(help, tr("&What you see"), QKeySequence(),
+      tr("What the colours and the curve mean, and what the model assumes"),
+      [this] { showExplanation(); })
+      ->setObjectName("explanationAction");
   add(help, tr("&About TissueProbe"), QKeySequence(), tr("About"), [this] {
     QMessageBox::about(this, tr("About TissueProbe"),
                        tr("TissueProbe %1: an AFM-style spherical probe indenting a plant tissue "
@@ -396,6 +411,59 @@ void MainWindow::updateRecentMenu() {
   });
 }
 
+void MainWindow::showExplanation() {
+  if (!explanation_) {
+    explanation_ = new QDialog(this);
+    explanation_->setObjectName("explanationDialog");
+    explanation_->setWindowTitle(tr("What you see"));
+    auto* text = new QTextBrowser;
+    text->setObjectName("explanationText");
+    QFile page(":/help/what-you-see.html");
+    text->setHtml(page.open(QIODevice::ReadOnly) ? QString::fromUtf8(page.readAll())
+                                                 : tr("The help page is missing from this build."));
+    text->setOpenExternalLinks(true);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
+    connect(buttons, &QDialogButtonBox::rejected, explanation_, &QDialog::hide);
+    auto* layout = new QVBoxLayout(explanation_);
+    layout->addWidget(text);
+    layout->addWidget(buttons);
+    explanation_->resize(620, 640);
+  }
+  explanation_->show();  // not modal: it can stay open beside the window
+  explanation_->raise();
+}
+
+void MainWindow::setPresentation(bool on) {
+  static const char* const kSideDocks[] = {"parametersDock", "displayDock", "mapDock"};
+  if (on == !normalState_.isEmpty()) return;
+  // Larger fonts on what stays in view (menus, tool and status bars, the curves' dock), not on
+  // the application: the hidden docks keep theirs, so nothing grows the window's minimum size.
+  QWidget* const large[] = {menuBar(), statusBar(), findChild<QDockWidget*>("plotDock")};
+  if (on) {
+    normalState_ = saveState();
+    for (const char* name : kSideDocks)
+      if (auto* d = findChild<QDockWidget*>(name)) d->hide();
+    if (auto* c = findChild<QDockWidget*>("plotDock")) c->show();
+    for (QWidget* w : large) {
+      if (!w) continue;
+      QFont f = QApplication::font(w);
+      f.setPointSizeF(f.pointSizeF() * 1.5);
+      w->setFont(f);
+    }
+    view_->setOverlayScale(1.6);
+    plot_->setPresentation(true);
+    statusBar()->showMessage(tr("Presentation: F5 to go back"), 4000);
+  } else {
+    for (QWidget* w : large)
+      if (w) w->setFont(QFont());  // inherit again
+    restoreState(normalState_);
+    normalState_.clear();
+    view_->setOverlayScale(1.0);
+    plot_->setPresentation(false);
+  }
+  if (presentation_->isChecked() != on) presentation_->setChecked(on);
+}
+
 void MainWindow::showControls() {
   QMessageBox::information(
       this, tr("Mouse and keys"),
@@ -565,6 +633,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
       return;
     }
   }
+  setPresentation(false);  // the layout remembered is the working one, not the lecture's
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 class QAction;
+class QDialog;
 class QDockWidget;
 class QLabel;
 class QMenu;
@@ -57,6 +58,11 @@ class MainWindow : public QMainWindow {
   void askFit();
   void showFit(const tp::gui::FitOutcome& outcome);
   void showControls();
+  /// Help ▸ What you see: one page on the colours, the curve and the model's assumptions.
+  void showExplanation();
+  /// View ▸ Presentation: larger fonts everywhere, a high-contrast overlay, and only the 3D
+  /// view and the curves; off restores the fonts and the docks as they were.
+  void setPresentation(bool on);
   void showMapSite(const Eigen::Vector3d& restPoint);
 
   SimulationController* controller_;
@@ -69,6 +75,9 @@ class MainWindow : public QMainWindow {
   MapPanel* mapPanel_;
   QDockWidget* mapDock_ = nullptr;
   QAction* frameSite_ = nullptr;  // View ▸ Frame a picked site
+  QAction* presentation_ = nullptr;  // View ▸ Presentation
+  QByteArray normalState_;           // the docks before presenting
+  QDialog* explanation_ = nullptr;   // Help ▸ What you see (created on first use)
   bool framePending_ = false;     // a site was picked: frame it once it is prepared
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;

@@ -43,6 +43,9 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   plot_->axisRect()->insetLayout()->setInsetAlignment(0, Qt::AlignTop | Qt::AlignLeft);
   plot_->setInteractions(QCP::iRangeDrag | QCP::iRangeZoom);
   plot_->setToolTip(tr("Force–depth curves: drag to pan, wheel to zoom"));
+  labelFont_ = plot_->xAxis->labelFont();
+  tickFont_ = plot_->xAxis->tickLabelFont();
+  legendFont_ = plot_->legend->font();
 
   list_ = new QListWidget;
   list_->setObjectName("curveList");
@@ -145,6 +148,20 @@ void PlotPanel::setCurves(const std::vector<NamedCurve>& curves, double meanCell
   redraw();
 }
 
+void PlotPanel::setPresentation(bool on) {
+  presentation_ = on;
+  auto scaled = [on](QFont f) {
+    if (on) f.setPointSizeF(f.pointSizeF() * 1.6);
+    return f;
+  };
+  for (QCPAxis* a : {plot_->xAxis, plot_->yAxis}) {
+    a->setLabelFont(scaled(labelFont_));
+    a->setTickLabelFont(scaled(tickFont_));
+  }
+  plot_->legend->setFont(scaled(legendFont_));
+  redraw();
+}
+
 void PlotPanel::redraw() {
   const bool nd = nondimensional() && cellSize_ > 0;
   plot_->clearGraphs();
@@ -158,13 +175,15 @@ void PlotPanel::redraw() {
     const int selected = list_->currentRow();
     const bool highlighted = static_cast<int>(i) == selected;
     if (selected >= 0 && !highlighted) colour.setAlpha(90);
-    g->setPen(QPen(colour, highlighted ? 3.6 : 1.8, c.live ? Qt::DashLine : Qt::SolidLine));
-    g->setScatterStyle(
-        QCPScatterStyle(c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5));
+    const double k = presentation_ ? 1.6 : 1.0;  // line widths and marker sizes
+    g->setPen(QPen(colour, (highlighted ? 3.6 : 1.8) * k, c.live ? Qt::DashLine : Qt::SolidLine));
+    g->setScatterStyle(QCPScatterStyle(
+        c.live ? QCPScatterStyle::ssCross : QCPScatterStyle::ssDisc, colour, 5 * k));
     if (c.measured) {  // an experiment's points: markers only, no line through them
       g->setLineStyle(QCPGraph::lsNone);
-      g->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, QPen(colour, highlighted ? 2.0 : 1.2),
-                                         Qt::NoBrush, highlighted ? 7 : 5));
+      g->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle,
+                                         QPen(colour, (highlighted ? 2.0 : 1.2) * k), Qt::NoBrush,
+                                         (highlighted ? 7 : 5) * k));
     }
     // Loading and unloading apart: the unloading branch (a run's way back) is its own graph,
     // dotted, without a legend entry, so it is not merged into the loading one by depth.
@@ -183,8 +202,8 @@ void PlotPanel::redraw() {
       }
       QCPGraph* u = plot_->addGraph();
       u->setName(label(c) + tr(" (unloading)"));
-      u->setPen(QPen(colour, highlighted ? 3.6 : 1.8, Qt::DotLine));
-      u->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, colour, 5));
+      u->setPen(QPen(colour, (highlighted ? 3.6 : 1.8) * k, Qt::DotLine));
+      u->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, colour, 5 * k));
       u->setData(ux, uy);
       u->removeFromLegend();
     }

@@ -98,6 +98,11 @@ std::optional<ClipPlane> TissueView::clipPlane() const {
   return p;
 }
 
+void TissueView::setOverlayScale(double scale) {
+  overlayScale_ = std::clamp(scale, 1.0, 3.0);
+  update();
+}
+
 void TissueView::setDeformationScale(double scale) {
   scale = std::clamp(scale, 1.0, 50.0);
   if (scale == deformationScale_) return;
@@ -690,11 +695,11 @@ void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) cons
     p.save();
     p.setRenderHint(QPainter::Antialiasing);
     p.setPen(QPen(QColor(0, 0, 0, 60), 1.0 * scale));
-    p.setBrush(QColor(255, 255, 255, 230));
+    p.setBrush(QColor(255, 255, 255, scale > 1.0 ? 255 : 230));  // opaque when presenting
     p.drawRoundedRect(textRect.adjusted(-6 * scale, -4 * scale, 6 * scale, 4 * scale), 4 * scale,
                       4 * scale);
     p.restore();
-    p.setPen(QColor(20, 20, 20));
+    p.setPen(scale > 1.0 ? QColor(0, 0, 0) : QColor(20, 20, 20));
     p.drawText(textRect, Qt::AlignLeft | Qt::AlignTop, text);
   }
 }
@@ -710,7 +715,7 @@ void TissueView::paintGL() {
   renderer_.render(frame(camera_), QSize(int(width() * dpr), int(height() * dpr)));
   ++frames_;
   QPainter painter(this);
-  paintOverlay(painter, size(), 1.0);
+  paintOverlay(painter, size(), overlayScale_);
   painter.end();
   emit frameRendered();
 }
@@ -740,7 +745,7 @@ QImage TissueView::renderImage(const QSize& size) {
   doneCurrent();
   if (image.isNull()) return image;
   QPainter painter(&image);
-  paintOverlay(painter, size, double(size.height()) / std::max(1, height()));
+  paintOverlay(painter, size, overlayScale_ * double(size.height()) / std::max(1, height()));
   return image;
 }
 

@@ -95,6 +95,10 @@ class TissueView : public QOpenGLWidget {
   void setMeshVisible(bool on);
   bool meshVisible() const { return mesh_; }
   void setRotationMode(tp::gui::Camera::RotationMode mode);
+  /// Presentation (teaching) mode: the overlay text, colour bar and site labels drawn `scale`
+  /// times larger (1: normal), on opaque panels.
+  void setOverlayScale(double scale);
+  double overlayScale() const { return overlayScale_; }
   /// What the view says while it has no tissue to draw.
   void setPlaceholder(const QString& text);
   /// The depth a probe drag starts from (µm).
@@ -148,6 +152,7 @@ class TissueView : public QOpenGLWidget {
   Snapshot source_;    // as the worker sent it
   Snapshot snapshot_;  // as drawn: source_ with the deformation scale applied
   double deformationScale_ = 1.0;
+  double overlayScale_ = 1.0;
   void applyDeformationScale();
   ColorMap map_;
   Field field_ = Field::VonMises;

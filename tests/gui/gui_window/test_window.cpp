@@ -13,6 +13,9 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
+#include <QMenuBar>
+#include <QDockWidget>
+#include <QTextBrowser>
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
@@ -40,6 +43,7 @@
 #include "SimulationController.h"
 #include "TestMain.h"
 #include "TissueView.h"
+#include "experiment/Quantities.h"
 #include "io/CurveCsv.h"
 #include "io/JpkCurve.h"
 #include "io/TextFile.h"
@@ -951,6 +955,61 @@ class WindowTest : public QObject {
     w_->displayPanel()->applySettings(DisplaySettings{});
     QCOMPARE(view_->mapValue(), -1);
     view_->resetView();
+  }
+
+  void presentationModeIsLargeAndGoesBack() {
+    // View ▸ Presentation (F5): larger fonts, the side docks put away, the overlay drawn larger
+    // and opaque; F5 again gives back the fonts and exactly the docks there were.
+    auto* act = w_->findChild<QAction*>("presentationAction");
+    QVERIFY(act);
+    auto* params = w_->findChild<QDockWidget*>("parametersDock");
+    auto* plotDock = w_->findChild<QDockWidget*>("plotDock");
+    QVERIFY(params && plotDock);
+    params->show();
+    QTRY_VERIFY(params->isVisible());
+    const double normalPt = w_->menuBar()->font().pointSizeF();
+    const double normalTick = w_->plotPanel()->plot()->xAxis->tickLabelFont().pointSizeF();
+    const QImage before = w_->view()->grabFramebuffer();
+    const QSize windowSize = w_->size();
+    QTest::keyClick(w_.get(), Qt::Key_F5);
+    QVERIFY(act->isChecked());
+    QCOMPARE(w_->menuBar()->font().pointSizeF(), 1.5 * normalPt);
+    QCOMPARE(plotDock->font().pointSizeF(), 1.5 * normalPt);
+    QCOMPARE(params->font().pointSizeF(), normalPt);  // hidden: left alone
+    QCOMPARE(w_->plotPanel()->plot()->xAxis->tickLabelFont().pointSizeF(), 1.6 * normalTick);
+    QCOMPARE(w_->view()->overlayScale(), 1.6);
+    QTRY_VERIFY(!params->isVisible());
+    QVERIFY(plotDock->isVisible());
+    // The view has the room of the docks, and its overlay (depth/force, colour bar) is larger.
+    QTRY_VERIFY(w_->view()->width() > before.width() / w_->view()->devicePixelRatioF() + 100);
+    QTest::keyClick(w_.get(), Qt::Key_F5);
+    QVERIFY(!act->isChecked());
+    QCOMPARE(w_->menuBar()->font().pointSizeF(), normalPt);
+    QCOMPARE(plotDock->font().pointSizeF(), normalPt);
+    QCOMPARE(w_->plotPanel()->plot()->xAxis->tickLabelFont().pointSizeF(), normalTick);
+    QCOMPARE(w_->view()->overlayScale(), 1.0);
+    QTRY_VERIFY(params->isVisible());
+    QTRY_COMPARE(w_->size(), windowSize);  // the large font did not grow the window
+  }
+
+  void helpExplainsTheColoursAndTheCurve() {
+    auto* act = w_->findChild<QAction*>("explanationAction");
+    QVERIFY(act);
+    act->trigger();
+    auto* dialog = w_->findChild<QDialog*>("explanationDialog");
+    QVERIFY(dialog);
+    QTRY_VERIFY(dialog->isVisible());
+    QVERIFY(!dialog->isModal());
+    const QString text = dialog->findChild<QTextBrowser*>("explanationText")->toPlainText();
+    // Every colour quantity the menu offers is explained on the page, by its name.
+    for (int q = 0; q < tp::kQuantityCount; ++q) {
+      const QString name = QString::fromUtf8(tp::quantityInfo(tp::Quantity(q)).name);
+      QVERIFY2(text.contains(name, Qt::CaseInsensitive), qPrintable(name));
+    }
+    for (const char* word : {"turgor", "depth", "force", "plasmolysed", "discretisation error",
+                             "What the model leaves out"})
+      QVERIFY2(text.contains(QString::fromUtf8(word), Qt::CaseInsensitive), word);
+    dialog->hide();
   }
 
   void clearAsksFirst() {
