@@ -1,6 +1,11 @@
 #include "FileActions.h"
 
 #include <QFileDialog>
+#include <QPainter>
+#include <QPdfWriter>
+#include <qcustomplot.h>
+#include <algorithm>
+#include <cmath>
 #include <QFileInfo>
 #include <QMessageBox>
 #include <QSaveFile>
@@ -158,6 +163,80 @@ bool FileActions::exportScreenshot(const QString& path, const QSize& size, QStri
   return true;
 }
 
+bool FileActions::exportFigure(const QString& path, const QSize& size, double dpi, int legend,
+                               QString* error) {
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  if (suffix != "png" && suffix != "pdf") {
+    if (error) *error = tr("%1: unknown format '%2' (use .png or .pdf)").arg(path, suffix);
+    return false;
+  }
+  if (size.width() < 64 || size.height() < 32 || !(dpi >= 24 && dpi <= 2400)) {
+    if (error)
+      *error = tr("%1: a figure of %2×%3 at %4 dpi cannot be drawn")
+                   .arg(path)
+                   .arg(size.width())
+                   .arg(size.height())
+                   .arg(dpi);
+    return false;
+  }
+  const auto where = static_cast<PlotPanel::ExportOptions::Legend>(std::clamp(legend, 0, 2));
+  // The view takes the left half and the curves the right half of the figure.
+  const int left = size.width() / 2, right = size.width() - left, h = size.height();
+  const bool pdf = suffix == "pdf";
+  // The view is a raster: in a PDF at twice the points, so it stays sharp when printed.
+  const QImage view = view_->renderImage(pdf ? QSize(2 * left, 2 * h) : QSize(left, h));
+  if (view.isNull()) {
+    if (error) *error = tr("The 3D view could not be rendered for the figure");
+    return false;
+  }
+  QSaveFile file(path);
+  if (!file.open(QIODevice::WriteOnly)) {
+    if (error) *error = tr("%1: %2").arg(path, file.errorString());
+    return false;
+  }
+  bool ok = true;
+  if (pdf) {
+    QPdfWriter writer(&file);
+    writer.setResolution(72);  // one unit = one point
+    writer.setPageSize(QPageSize(QSizeF(size), QPageSize::Point, QString(), QPageSize::ExactMatch));
+    writer.setPageMargins(QMarginsF(0, 0, 0, 0));
+    writer.setCreator(QStringLiteral("TissueProbe"));
+    writer.setTitle(tr("TissueProbe figure"));
+    QCPPainter painter;
+    ok = painter.begin(&writer);
+    if (ok) {
+      painter.setMode(QCPPainter::pmVectorized);
+      painter.setMode(QCPPainter::pmNoCaching);
+      painter.drawImage(QRectF(0, 0, left, h), view);
+      painter.translate(left, 0);
+      plot_->drawInto(&painter, QSize(right, h), where);
+      ok = painter.end();
+    }
+  } else {
+    QImage figure(size, QImage::Format_ARGB32);
+    figure.fill(Qt::white);
+    const double scale = dpi / 96.0;
+    {
+      QCPPainter painter(&figure);
+      painter.setRenderHint(QPainter::Antialiasing);
+      painter.drawImage(QPoint(0, 0), view);
+      painter.translate(left, 0);
+      painter.scale(scale, scale);  // the curves' text and lines drawn for the resolution
+      plot_->drawInto(&painter, QSize(int(std::lround(right / scale)), int(std::lround(h / scale))),
+                      where);
+    }
+    const int dpm = int(std::lround(dpi / 0.0254));
+    figure.setDotsPerMeterX(dpm);
+    figure.setDotsPerMeterY(dpm);
+    ok = figure.save(&file, "PNG");
+  }
+  if (!ok || !file.commit()) {
+    if (error) *error = tr("%1: could not write the figure (%2)").arg(path, file.errorString());
+    return false;
+  }
+  return true;
+}
+
 QString FileActions::askSave(const QString& title, const QString& name, const QString& filter) {
   const QString path = QFileDialog::getSaveFileName(
       window_, title, lastDir().isEmpty() ? name : lastDir() + "/" + name, filter);
@@ -207,10 +286,16 @@ void FileActions::exportPlotDialog() {
   const bool vector = !path.endsWith(".png", Qt::CaseInsensitive);
   ScreenshotDialog dialog(vector ? QSize(540, 360) : QSize(1200, 800), tr("Size of the plot"),
                           vector ? tr(" pt") : tr(" px"), window_);
+  if (!vector) dialog.addResolution(96);
+  dialog.addLegendChoice();
   if (dialog.exec() != QDialog::Accepted) return;
   QString error;
-  report(plot_->exportImage(path, dialog.imageSize().width(), dialog.imageSize().height(), &error),
-         tr("plot"), path, error);
+  PlotPanel::ExportOptions options;
+  options.width = dialog.imageSize().width();
+  options.height = dialog.imageSize().height();
+  options.dpi = dialog.resolution();
+  options.legend = static_cast<PlotPanel::ExportOptions::Legend>(dialog.legendChoice());
+  report(plot_->exportImage(path, options, &error), tr("plot"), path, error);
 }
 
 void FileActions::exportCurvesDialog() {
@@ -225,6 +310,21 @@ void FileActions::exportCurrentCurveDialog() {
   if (path.isEmpty()) return;
   QString error;
   report(exportCurrentCurve(path, &error), tr("curve"), path, error);
+}
+
+void FileActions::exportFigureDialog() {
+  const QString path = askSave(tr("Export a figure: the 3D view and the curves"), "figure.png",
+                               tr("PNG image (*.png);;PDF document (*.pdf)"));
+  if (path.isEmpty()) return;
+  const bool pdf = path.endsWith(".pdf", Qt::CaseInsensitive);
+  ScreenshotDialog dialog(pdf ? QSize(720, 320) : QSize(1800, 800), tr("Size of the figure"),
+                          pdf ? tr(" pt") : tr(" px"), window_);
+  if (!pdf) dialog.addResolution(96);
+  dialog.addLegendChoice();
+  if (dialog.exec() != QDialog::Accepted) return;
+  QString error;
+  report(exportFigure(path, dialog.imageSize(), dialog.resolution(), dialog.legendChoice(), &error),
+         tr("figure"), path, error);
 }
 
 void FileActions::exportScreenshotDialog() {

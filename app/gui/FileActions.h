@@ -41,6 +41,12 @@ class FileActions : public QObject {
   /// The selected curve (else the newest) as tp::writeCurveCsv writes it.
   bool exportCurrentCurve(const QString& path, QString* error);
   bool exportScreenshot(const QString& path, const QSize& size, QString* error);
+  /// A figure for slides and papers: the 3D view (with its colour bar and overlay) on the left
+  /// and the curves on the right (legend as `legend` says, an index of
+  /// PlotPanel::ExportOptions::Legend), side by side in one PNG (`size` in pixels, drawn for
+  /// `dpi`) or PDF (`size` in points; the curves as vectors).
+  bool exportFigure(const QString& path, const QSize& size, double dpi, int legend,
+                    QString* error);
   /// A measured force–indentation curve (a table with units in its header, or a JPK text
   /// export converted at `contactHeight`, µm, else at its estimated contact point) added to the
   /// plot. False with a message naming the file, line and value.
@@ -58,6 +64,7 @@ class FileActions : public QObject {
   void exportCurvesDialog();
   void exportCurrentCurveDialog();
   void exportScreenshotDialog();
+  void exportFigureDialog();
   void exportVtuDialog();
   void importMeasuredCurveDialog();
   void exportMapTableDialog();

@@ -136,6 +136,10 @@ void MainWindow::createMenus() {
   QAction* shot = add(file, tr("Screens&hot of the 3D view…"), QKeySequence(tr("Ctrl+Shift+S")),
                       tr("A PNG of the 3D view at a chosen size"),
                       [this] { files_->exportScreenshotDialog(); });
+  add(file, tr("Export &figure (view and curves)…"), QKeySequence(tr("Ctrl+Shift+F")),
+      tr("The 3D view with its colour bar and the curves side by side, in one PNG or PDF, for "
+         "slides and papers"),
+      [this] { files_->exportFigureDialog(); });
   add(file, tr("Export deformed state (&VTU)…"), QKeySequence(tr("Ctrl+Shift+U")),
       tr("The current state with stress fields, for ParaView"),
       [this] { files_->exportVtuDialog(); });

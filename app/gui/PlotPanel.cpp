@@ -12,6 +12,7 @@
 #include <QVBoxLayout>
 
 #include <qcustomplot.h>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -296,48 +297,142 @@ void PlotPanel::showResiduals(bool nd) {
   y->setRange(-1.15 * extent - 1e-12, 1.15 * extent + 1e-12);
 }
 
-bool PlotPanel::exportImage(const QString& path, int width, int height, QString* error) const {
-  const int w = width > 0 ? width : plot_->width();
-  const int h = height > 0 ? height : plot_->height();
+namespace {
+
+// Puts the legend where an export of `size` (its units) wants it, and back where it was when it
+// goes out of scope. Outside is a column right of the axes when the legend takes at most 40 % of
+// the width, else a row under them (a narrow figure keeps its axes); a legend wider than the
+// figure gets a smaller font (not below 5 pt) rather than being cut.
+class LegendPlacement {
+ public:
+  using Legend = PlotPanel::ExportOptions::Legend;
+  LegendPlacement(QCustomPlot* plot, Legend where, const QSize& size)
+      : plot_(plot), font_(plot->legend->font()), brush_(plot->legend->brush()) {
+    visible_ = plot_->legend->visible();
+    if (where == Legend::None) plot_->legend->setVisible(false);
+    if (where != Legend::Outside || !visible_) return;
+    const int wide = plot_->legend->minimumOuterSizeHint().width();
+    const bool right = wide <= 0.4 * size.width();
+    if (!right && wide > 0.95 * size.width()) {
+      QFont f = font_;
+      f.setPointSizeF(std::max(5.0, f.pointSizeF() * 0.95 * size.width() / wide));
+      plot_->legend->setFont(f);
+    }
+    plot_->axisRect()->insetLayout()->take(plot_->legend);
+    holder_ = new QCPLayoutGrid;
+    QCPLayoutGrid* grid = plot_->plotLayout();
+    if (right) {  // legend on top, a spacer under it taking the height
+      grid->addElement(0, grid->columnCount(), holder_);
+      grid->setColumnStretchFactor(grid->columnCount() - 1, 0.001);
+      holder_->addElement(0, 0, plot_->legend);
+      holder_->addElement(1, 0, new QCPLayoutElement(plot_));
+      holder_->setRowStretchFactor(0, 0.001);
+    } else {  // legend on the left, a spacer right of it taking the width
+      grid->addElement(grid->rowCount(), 0, holder_);
+      grid->setRowStretchFactor(grid->rowCount() - 1, 0.001);
+      holder_->addElement(0, 0, plot_->legend);
+      holder_->addElement(0, 1, new QCPLayoutElement(plot_));
+      holder_->setColumnStretchFactor(0, 0.001);
+    }
+    plot_->legend->setBrush(Qt::NoBrush);
+  }
+  ~LegendPlacement() {
+    plot_->legend->setVisible(visible_);
+    plot_->legend->setFont(font_);
+    plot_->legend->setBrush(brush_);
+    if (!holder_) return;
+    holder_->take(plot_->legend);
+    plot_->plotLayout()->remove(holder_);  // deletes it and the spacer
+    plot_->plotLayout()->simplify();
+    plot_->axisRect()->insetLayout()->addElement(plot_->legend, Qt::AlignTop | Qt::AlignLeft);
+    plot_->replot(QCustomPlot::rpQueuedReplot);
+  }
+  LegendPlacement(const LegendPlacement&) = delete;
+  LegendPlacement& operator=(const LegendPlacement&) = delete;
+
+ private:
+  QCustomPlot* plot_;
+  QFont font_;
+  QBrush brush_;
+  bool visible_ = true;
+  QCPLayoutGrid* holder_ = nullptr;
+};
+
+}  // namespace
+
+void PlotPanel::drawInto(QPainter* painter, const QSize& size, ExportOptions::Legend legend) {
+  const LegendPlacement placed(plot_, legend, size);
+  auto* qcp = static_cast<QCPPainter*>(painter);
+  plot_->toPainter(qcp, size.width(), size.height());
+  rememberExportLayout();
+}
+
+void PlotPanel::rememberExportLayout() {
+  lastAxes_ = plot_->axisRect()->rect();
+  lastLegend_ = plot_->legend->visible() ? plot_->legend->outerRect() : QRect();
+}
+
+bool PlotPanel::exportImage(const QString& path, const ExportOptions& options, QString* error) {
+  const int w = options.width > 0 ? options.width : plot_->width();
+  const int h = options.height > 0 ? options.height : plot_->height();
   const QString suffix = QFileInfo(path).suffix().toLower();
+  if (suffix != "png" && suffix != "svg" && suffix != "pdf") {
+    if (error) *error = tr("%1: unknown format '%2' (use .png, .svg or .pdf)").arg(path, suffix);
+    return false;
+  }
+  if (!(options.dpi >= 24 && options.dpi <= 2400)) {
+    if (error) *error = tr("%1: a resolution of %2 dpi is not one to draw at (24–2400)").arg(path).arg(options.dpi);
+    return false;
+  }
   QSaveFile file(path);  // written aside and renamed on commit: atomic
   if (!file.open(QIODevice::WriteOnly)) {
     if (error) *error = tr("%1: %2").arg(path, file.errorString());
     return false;
   }
   bool ok = true;
-  if (suffix == "svg" || suffix == "pdf") {
-    QCPPainter painter;
-    std::unique_ptr<QPaintDevice> device;
-    if (suffix == "svg") {
-      auto* svg = new QSvgGenerator;
-      svg->setOutputDevice(&file);
-      svg->setSize(QSize(w, h));
-      svg->setViewBox(QRect(0, 0, w, h));
-      svg->setTitle(tr("TissueProbe force–depth curves"));
-      device.reset(svg);
+  {
+    const double scale = suffix == "png" ? options.dpi / 96.0 : 1.0;
+    const LegendPlacement placed(plot_, options.legend,
+                                 QSize(int(std::lround(w / scale)), int(std::lround(h / scale))));
+    if (suffix == "svg" || suffix == "pdf") {
+      QCPPainter painter;
+      std::unique_ptr<QPaintDevice> device;
+      if (suffix == "svg") {
+        auto* svg = new QSvgGenerator;
+        svg->setOutputDevice(&file);
+        svg->setSize(QSize(w, h));
+        svg->setViewBox(QRect(0, 0, w, h));
+        svg->setTitle(tr("TissueProbe force–depth curves"));
+        device.reset(svg);
+      } else {
+        auto* pdf = new QPdfWriter(&file);
+        pdf->setResolution(72);  // one device unit = one point
+        pdf->setPageSize(QPageSize(QSizeF(w, h), QPageSize::Point, QString(), QPageSize::ExactMatch));
+        pdf->setPageMargins(QMarginsF(0, 0, 0, 0));
+        pdf->setCreator(QStringLiteral("TissueProbe"));
+        device.reset(pdf);
+      }
+      ok = painter.begin(device.get());
+      if (ok) {
+        painter.setMode(QCPPainter::pmVectorized);
+        painter.setMode(QCPPainter::pmNoCaching);
+        plot_->toPainter(&painter, w, h);
+        rememberExportLayout();
+        painter.end();
+      }
+      device.reset();  // finishes the document before the commit
     } else {
-      auto* pdf = new QPdfWriter(&file);
-      pdf->setResolution(72);  // one device unit = one point
-      pdf->setPageSize(QPageSize(QSizeF(w, h), QPageSize::Point, QString(), QPageSize::ExactMatch));
-      pdf->setPageMargins(QMarginsF(0, 0, 0, 0));
-      pdf->setCreator(QStringLiteral("TissueProbe"));
-      device.reset(pdf);
+      // The layout at w/scale × h/scale, drawn scale times larger: w × h pixels.
+      QImage image = plot_->toPixmap(int(std::lround(w / scale)), int(std::lround(h / scale)), scale)
+                         .toImage();
+      rememberExportLayout();
+      if (image.size() != QSize(w, h))
+        image = image.scaled(w, h, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+      const int dpm = int(std::lround(options.dpi / 0.0254));
+      image.setDotsPerMeterX(dpm);
+      image.setDotsPerMeterY(dpm);
+      ok = image.save(&file, "PNG");
     }
-    ok = painter.begin(device.get());
-    if (ok) {
-      painter.setMode(QCPPainter::pmVectorized);
-      painter.setMode(QCPPainter::pmNoCaching);
-      plot_->toPainter(&painter, w, h);
-      painter.end();
-    }
-    device.reset();  // finishes the document before the commit
-  } else if (suffix == "png") {
-    ok = plot_->toPixmap(w, h).save(&file, "PNG");
-  } else {
-    if (error) *error = tr("%1: unknown format '%2' (use .png, .svg or .pdf)").arg(path, suffix);
-    file.cancelWriting();
-    return false;
   }
   if (!ok || !file.commit()) {
     if (error) *error = tr("%1: could not write the plot (%2)").arg(path, file.errorString());

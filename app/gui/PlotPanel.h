@@ -34,9 +34,27 @@ class PlotPanel : public QWidget {
   /// Curves shown (a curve with an unloading branch draws two graphs).
   int curveCount() const { return static_cast<int>(curves_.size()); }
 
-  /// Writes the plot as PNG, SVG or PDF (by the suffix) at the given size in pixels (0: the
-  /// widget's size). False with a message on failure.
-  bool exportImage(const QString& path, int width, int height, QString* error) const;
+  /// How an exported plot is laid out.
+  struct ExportOptions {
+    int width = 0, height = 0;  // pixels (PNG) or points (SVG, PDF); 0: the widget's size
+    // PNG only: the image is width × height pixels drawn for this resolution (text and lines
+    // scaled by dpi/96, so 300 dpi is a print figure whose text reads as on screen), and the
+    // file says so (its pHYs).
+    double dpi = 96;
+    enum class Legend { Inside, Outside, None };
+    Legend legend = Legend::Outside;  // Outside: in a column right of the axes, clear of data
+  };
+
+  /// Writes the plot as PNG, SVG or PDF (by the suffix). False with a message on failure.
+  bool exportImage(const QString& path, const ExportOptions& options, QString* error);
+  bool exportImage(const QString& path, int width, int height, QString* error) {
+    return exportImage(path, ExportOptions{width, height}, error);
+  }
+  /// Draws the plot into `painter` (a QCPPainter) at `size` in its units, with the legend placed
+  /// as asked: the figure export draws it beside the 3D view.
+  void drawInto(QPainter* painter, const QSize& size, ExportOptions::Legend legend);
+  /// Where the last export drew the axes' data area and the legend (its units): for tests.
+  std::pair<QRect, QRect> lastExportLayout() const { return {lastAxes_, lastLegend_}; }
 
   /// Presentation (teaching) mode: axis, tick and legend fonts 1.6 times larger and thicker
   /// lines, for a projector; off restores the normal look.
@@ -67,6 +85,8 @@ class PlotPanel : public QWidget {
   double cellSize_ = 0;
   bool presentation_ = false;
   QFont labelFont_, tickFont_, legendFont_;  // the normal look, restored after presenting
+  QRect lastAxes_, lastLegend_;              // lastExportLayout()
+  void rememberExportLayout();
 };
 
 }  // namespace tp::gui

@@ -1,6 +1,7 @@
 #include "ScreenshotDialog.h"
 
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFormLayout>
 #include <QHBoxLayout>
@@ -53,12 +54,41 @@ ScreenshotDialog::ScreenshotDialog(const QSize& base, const QString& title, cons
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
   connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
-  auto* form = new QFormLayout(this);
-  form->addRow(tr("Width"), width_);
-  form->addRow(tr("Height"), height_);
-  form->addRow(keepAspect_);
-  form->addRow(tr("Presets"), presets);
-  form->addRow(buttons);
+  form_ = new QFormLayout(this);
+  form_->addRow(tr("Width"), width_);
+  form_->addRow(tr("Height"), height_);
+  form_->addRow(keepAspect_);
+  form_->addRow(tr("Presets"), presets);
+  form_->addRow(buttons);
+}
+
+void ScreenshotDialog::addResolution(double dpi) {
+  dpi_ = new QSpinBox;
+  dpi_->setObjectName("exportDpi");
+  dpi_->setRange(24, 2400);
+  dpi_->setSuffix(tr(" dpi"));
+  dpi_->setValue(int(std::lround(dpi)));
+  dpi_->setToolTip(tr("PNG: text and lines are drawn for this resolution (96: as on screen; "
+                      "300: a print figure of width / 300 inches)"));
+  form_->insertRow(form_->rowCount() - 1, tr("Resolution"), dpi_);
+}
+
+double ScreenshotDialog::resolution() const {
+  return dpi_ ? dpi_->value() : 96.0;
+}
+
+void ScreenshotDialog::addLegendChoice() {
+  legend_ = new QComboBox;
+  legend_->setObjectName("exportLegend");
+  legend_->addItem(tr("inside, top left"));
+  legend_->addItem(tr("outside, on the right"));
+  legend_->addItem(tr("none"));
+  legend_->setCurrentIndex(1);
+  form_->insertRow(form_->rowCount() - 1, tr("Legend"), legend_);
+}
+
+int ScreenshotDialog::legendChoice() const {
+  return legend_ ? legend_->currentIndex() : 1;
 }
 
 void ScreenshotDialog::scaleTo(double factor) {

@@ -1,12 +1,15 @@
 #pragma once
 // Asks for the size of an image: a screenshot of the 3D view (pixels; the view's own size by
 // default) or an exported plot (pixels, or points for SVG and PDF); presets 1×, 2× and 4× of the
-// default, the aspect ratio kept unless unticked.
+// default, the aspect ratio kept unless unticked; for a plot or a figure also its resolution and
+// where the legend goes.
 
 #include <QDialog>
 #include <QSize>
 
 class QCheckBox;
+class QComboBox;
+class QFormLayout;
 class QSpinBox;
 
 namespace tp::gui {
@@ -21,12 +24,23 @@ class ScreenshotDialog : public QDialog {
                    QWidget* parent = nullptr);
   QSize imageSize() const;
 
+  /// Adds a resolution box (PNG: the image is drawn for this many dots per inch).
+  void addResolution(double dpi);
+  double resolution() const;
+  /// Adds a choice of where the legend goes: inside the axes (top left), outside on the right
+  /// (the default), or none. Index as PlotPanel::ExportOptions::Legend.
+  void addLegendChoice();
+  int legendChoice() const;
+
  private:
   void scaleTo(double factor);
 
   QSize view_;
   QSpinBox *width_, *height_;
   QCheckBox* keepAspect_;
+  QFormLayout* form_ = nullptr;
+  QSpinBox* dpi_ = nullptr;
+  QComboBox* legend_ = nullptr;
 };
 
 }  // namespace tp::gui

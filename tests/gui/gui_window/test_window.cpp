@@ -28,8 +28,10 @@
 #include <QTest>
 
 #include <qcustomplot.h>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <tuple>
 
 #include "ContactPointDialog.h"
 #include "DisplayPanel.h"
@@ -457,6 +459,76 @@ class WindowTest : public QObject {
       if (ext == "png") QCOMPARE(QImage(path).size(), QSize(800, 500));
     }
     QVERIFY(!plot->exportImage(dir_.path() + "/plot.xyz", 0, 0, &error));
+    QVERIFY(error.contains("unknown format"));
+
+    // For a paper: 300 dpi (the PNG says so, its size is the one asked), the legend outside the
+    // data area, beside it; inside it when asked; the plot on screen unchanged afterwards.
+    const int onScreenColumns = plot->plot()->plotLayout()->columnCount();
+    PlotPanel::ExportOptions paper;
+    paper.width = 1050;
+    paper.height = 700;
+    paper.dpi = 300;
+    const QString png300 = dir_.path() + "/plot300.png";
+    QVERIFY2(plot->exportImage(png300, paper, &error), qPrintable(error));
+    const QImage printed(png300);
+    QCOMPARE(printed.size(), QSize(1050, 700));
+    QCOMPARE(printed.dotsPerMeterX(), int(std::lround(300 / 0.0254)));
+    auto [axes, legend] = plot->lastExportLayout();
+    QVERIFY(!legend.isEmpty());
+    // A long legend on a 3.5-inch figure goes under the axes; on a wide one, right of them.
+    QVERIFY2(!legend.intersects(axes) && (legend.left() >= axes.right() || legend.top() >= axes.bottom()),
+             qPrintable(QString("legend %1,%2 %3x%4, axes right %5")
+                            .arg(legend.x()).arg(legend.y()).arg(legend.width())
+                            .arg(legend.height()).arg(axes.right())));
+    // 300 dpi draws the same layout 300/96 times larger: the axes span 1050·96/300 units.
+    QVERIFY(axes.right() < 1050 * 96 / 300);
+    if (const char* keep = std::getenv("TP_KEEP_EXPORTS")) {  // to look at them
+      QFile::copy(png300, QString(keep) + "/plot300.png");
+    }
+    QVERIFY2(axes.width() > 0.6 * 1050 * 96 / 300, "the axes keep most of the width");
+    paper.dpi = 96;
+    paper.width = 1800;
+    QVERIFY2(plot->exportImage(dir_.path() + "/plot-wide.png", paper, &error), qPrintable(error));
+    std::tie(axes, legend) = plot->lastExportLayout();
+    QVERIFY(legend.left() >= axes.right());
+    if (const char* keep = std::getenv("TP_KEEP_EXPORTS"))
+      QFile::copy(dir_.path() + "/plot-wide.png", QString(keep) + "/plot-wide.png");
+    paper.width = 1050;
+    paper.dpi = 300;
+    paper.legend = PlotPanel::ExportOptions::Legend::Inside;
+    QVERIFY2(plot->exportImage(dir_.path() + "/plot-inside.png", paper, &error), qPrintable(error));
+    std::tie(axes, legend) = plot->lastExportLayout();
+    QVERIFY2(axes.contains(legend.topLeft()),  // in the data area's corner (long names overflow)
+             qPrintable(QString("legend %1,%2 %3x%4, axes %5,%6 %7x%8")
+                            .arg(legend.x()).arg(legend.y()).arg(legend.width())
+                            .arg(legend.height()).arg(axes.x()).arg(axes.y()).arg(axes.width())
+                            .arg(axes.height())));
+    paper.legend = PlotPanel::ExportOptions::Legend::None;
+    QVERIFY2(plot->exportImage(dir_.path() + "/plot-none.png", paper, &error), qPrintable(error));
+    QVERIFY(plot->lastExportLayout().second.isEmpty());
+    QCOMPARE(plot->plot()->plotLayout()->columnCount(), onScreenColumns);
+    QVERIFY(plot->plot()->legend->visible());
+    QVERIFY(plot->plot()->axisRect()->insetLayout()->elementCount() == 1);
+
+    // A figure: the 3D view (left half) and the curves (right half) in one image or PDF.
+    const QString fig = dir_.path() + "/figure.png";
+    QVERIFY2(w_->fileActions()->exportFigure(fig, QSize(1400, 600), 150, 1, &error),
+             qPrintable(error));
+    if (const char* keep = std::getenv("TP_KEEP_EXPORTS")) QFile::copy(fig, QString(keep) + "/figure.png");
+    const QImage figure(fig);
+    QCOMPARE(figure.size(), QSize(1400, 600));
+    QCOMPARE(figure.dotsPerMeterX(), int(std::lround(150 / 0.0254)));
+    const QImage viewHalf = figure.copy(0, 0, 700, 600), plotHalf = figure.copy(700, 0, 700, 600);
+    QVERIFY2(distinctColours(viewHalf) > 200, "the tissue, shaded, in the left half");
+    QVERIFY2(distinctColours(plotHalf) > 10, "axes, text and curves in the right half");
+    const QString figPdf = dir_.path() + "/figure.pdf";
+    QVERIFY2(w_->fileActions()->exportFigure(figPdf, QSize(720, 320), 96, 1, &error),
+             qPrintable(error));
+    QFile pdf(figPdf);
+    QVERIFY(pdf.open(QIODevice::ReadOnly));
+    QVERIFY(pdf.read(8).startsWith("%PDF"));
+    QVERIFY(!w_->fileActions()->exportFigure(dir_.path() + "/figure.svg", QSize(720, 320), 96, 1,
+                                            &error));
     QVERIFY(error.contains("unknown format"));
 
     const QString all = dir_.path() + "/curves.csv";
