@@ -101,7 +101,7 @@ bool FileActions::openSession(const QString& path, QString* error) {
   return true;
 }
 
-bool FileActions::saveSession(const QString& path, QString* error) {
+bool FileActions::writeSessionCopy(const QString& path, QString* error) {
   try {
     SessionState session = controller_->session();
     if (map_->hasMap()) session.map = map_->map();
@@ -112,6 +112,11 @@ bool FileActions::saveSession(const QString& path, QString* error) {
     if (error) *error = QString::fromUtf8(e.what());
     return false;
   }
+  return true;
+}
+
+bool FileActions::saveSession(const QString& path, QString* error) {
+  if (!writeSessionCopy(path, error)) return false;
   controller_->markCurvesSaved();
   RecentFiles::add(path);
   emit recentFilesChanged();

@@ -36,6 +36,9 @@ class FileActions : public QObject {
   void openTissue(const QString& path);
   bool openSession(const QString& path, QString* error);
   bool saveSession(const QString& path, QString* error);
+  /// Writes the session as saveSession does, but as a copy: the curves stay unsaved and the
+  /// file is not a recent one (the autosave).
+  bool writeSessionCopy(const QString& path, QString* error);
   /// Every curve in one long-format CSV (a `curve` column).
   bool exportCurves(const QString& path, QString* error);
   /// The selected curve (else the newest) as tp::writeCurveCsv writes it.

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include <memory>
+
 class QAction;
 class QDialog;
 class QDockWidget;
@@ -15,6 +17,7 @@ class QMenu;
 
 namespace tp::gui {
 
+class Autosave;
 class BusyIndicator;
 class DisplayPanel;
 class FileActions;
@@ -41,6 +44,13 @@ class MainWindow : public QMainWindow {
   FileActions* fileActions() const { return files_; }
   MapRunner* mapRunner() const { return mapRunner_; }
   MapPanel* mapPanel() const { return mapPanel_; }
+  Autosave* autosave() const { return autosave_.get(); }
+
+  /// Writes the autosave now if there are unsaved curves (else removes it: nothing to lose);
+  /// a timer calls it every minute.
+  void autosaveNow();
+  /// Offers to recover the newest session a crashed window left (asked once at start).
+  void offerRecovery();
 
  protected:
   bool eventFilter(QObject* watched, QEvent* e) override;
@@ -81,6 +91,7 @@ class MainWindow : public QMainWindow {
   bool framePending_ = false;     // a site was picked: frame it once it is prepared
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;
+  std::unique_ptr<Autosave> autosave_;
   BusyIndicator* busy_;
   QLabel *hoverLabel_, *probeLabel_, *meshLabel_;
 };

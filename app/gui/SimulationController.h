@@ -69,6 +69,8 @@ class SimulationController : public QObject {
   /// window or clearing would lose.
   bool hasUnsavedCurves() const { return unsaved_ && !curves_.empty(); }
   void markCurvesSaved() { unsaved_ = false; }
+  /// Curves that are in no file of the user's (a session recovered from an autosave).
+  void markCurvesUnsaved() { unsaved_ = true; }
   const Snapshot& latest() const { return latest_; }
   const QString& tissuePath() const { return tissuePath_; }
   bool busy() const { return busy_; }

@@ -5,6 +5,7 @@
 // Units everywhere: µm, MPa, µN.
 
 #include <QApplication>
+#include <QTimer>
 #include <QCommandLineParser>
 
 #include <clocale>
@@ -51,5 +52,7 @@ int main(int argc, char** argv) {
   } else {
     files->openTissue(QString());  // the shipped default tissue
   }
+  // Curves a crashed window left in its autosave: asked once the window is up.
+  QTimer::singleShot(0, &window, [&window] { window.offerRecovery(); });
   return app.exec();
 }

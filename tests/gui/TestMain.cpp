@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   // A temporary configuration folder: the tests must not read or write the user's settings.
   QTemporaryDir config;
   qputenv("XDG_CONFIG_HOME", config.path().toUtf8());
+  qputenv("XDG_DATA_HOME", (config.path() + "/data").toUtf8());  // autosaves
+  qputenv("XDG_CACHE_HOME", (config.path() + "/cache").toUtf8());  // map results
   tp::gui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
   std::setlocale(LC_NUMERIC, "C");

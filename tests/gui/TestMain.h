@@ -1,6 +1,7 @@
 #pragma once
 // Several Qt Test classes in one executable: each test file registers its class, and the main()
-// in TestMain.cpp runs them all (the settings go to a temporary folder, never the user's).
+// in TestMain.cpp runs them all (settings, autosaves and caches go to a temporary folder, never
+// the user's).
 
 #include <QObject>
 
