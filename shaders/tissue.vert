@@ -1,6 +1,7 @@
 #version 330 core
-// Walls of the tissue and the probe sphere: positions in µm (world), a flat normal per triangle,
-// a colour from the field's colour map, the wall's two cells (for the hover highlight) and flags.
+// Walls of the tissue and the probe sphere: positions in µm (world), a normal per corner (smooth
+// inside a wall, the triangle's own on its outline), a colour from the field's colour map, the
+// wall's two cells (for the hover highlight) and flags.
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in vec3 color;

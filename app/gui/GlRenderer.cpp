@@ -236,6 +236,14 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
       walls_->setUniformValue("uniformColor", colour);
       glDrawArrays(GL_TRIANGLES, 0, sphereVertices_);
     };
+    // Where walls hide the probe (deep in a dimple, or a magnified one), a faint ghost of it
+    // shows through them, so the contact stays in view: the parts behind the depth buffer only,
+    // without writing depth.
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_GREATER);
+    sphere(f.probeCenter, QVector4D(0.92f, 0.94f, 1.0f, 0.5f));
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_TRUE);
     sphere(f.probeCenter, QVector4D(0.78f, 0.8f, 0.86f, 0.7f));
     if (f.targetCenter && (*f.targetCenter - f.probeCenter).norm() > 1e-3f * f.probeRadius)
       sphere(*f.targetCenter, QVector4D(0.95f, 0.7f, 0.2f, 0.35f));

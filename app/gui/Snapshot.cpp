@@ -89,6 +89,14 @@ std::shared_ptr<const TissueGeometry> makeTissueGeometry(const CellComplex& cc, 
     g->clampedTriangle[t] = cc.fixed[tri[0]] && cc.fixed[tri[1]] && cc.fixed[tri[2]];
   }
   g->clampedVertex = cc.fixed;
+  g->vertexWall.assign(cc.vertexCount(), -2);  // −2: no triangle seen yet
+  for (int t = 0; t < T; ++t)
+    for (int k = 0; k < 3; ++k) {
+      int& w = g->vertexWall[cc.triangles[t][k]];
+      const int wall = cc.triangleWall[t];
+      w = w == -2 ? wall : (w == wall ? w : -1);
+    }
+  for (int& w : g->vertexWall) w = std::max(w, -1);
   g->outlineEdges = wallOutlineEdges(cc, &g->outerOutlineEdges);
   g->cellLabels = cc.cellLabels;
   g->meanCellSize = cellSize;

@@ -31,6 +31,10 @@ struct TissueGeometry {
   std::vector<std::uint8_t> outer;            // T, 1 = on the outer surface
   std::vector<std::uint8_t> clampedTriangle;  // T, 1 = its three vertices are clamped
   std::vector<std::uint8_t> clampedVertex;    // V, 1 = clamped
+  // V: the one wall whose triangles all around a vertex belong to (−1: the vertex is on two
+  // walls or more, i.e. on a wall's outline). Shading is smooth across such inner vertices and
+  // crisp along the outlines, so a refined wall bulges smoothly and cells keep their edges.
+  std::vector<int> vertexWall;
   std::vector<double> rest;                   // 3V rest positions (µm): picks → material points
   std::vector<std::uint32_t> outlineEdges;    // 2E vertex indices: boundaries of the walls,
                                               // those of outer walls first

@@ -38,19 +38,40 @@ void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
   outerTriangleVertices_ = 3 * static_cast<int>(order.size());
   for (int t = 0; t < T; ++t)
     if (!g.outer[t]) order.push_back(t);
+  // Smooth shading inside each wall: at a vertex all of whose triangles are of one wall, the
+  // area-weighted mean of their normals (Gouraud's vertex normal); on outlines the triangle's own.
+  // The triangles of a wall are wound alike (core/mesh/CellComplex.h), so their normals agree.
+  const bool smooth = g.vertexWall.size() == static_cast<size_t>(g.vertexCount());
+  std::vector<Eigen::Vector3f> vertexNormal(smooth ? g.vertexCount() : 0, Eigen::Vector3f::Zero());
+  if (smooth)
+    for (int t = 0; t < T; ++t) {
+      const std::uint32_t* v = &g.triangles[3 * t];
+      const Eigen::Vector3f n = (vertex(v[1]) - vertex(v[0])).cross(vertex(v[2]) - vertex(v[0]));
+      for (int k = 0; k < 3; ++k)
+        if (g.vertexWall[v[k]] >= 0) vertexNormal[v[k]] += n;  // |n| = twice the area
+    }
   for (int t : order) {
     const Eigen::Vector3f a = vertex(g.triangles[3 * t]), b = vertex(g.triangles[3 * t + 1]),
                           c = vertex(g.triangles[3 * t + 2]);
     Eigen::Vector3f n = (b - a).cross(c - a);
     const float len = n.norm();
     n = len > 0 ? Eigen::Vector3f(n / len) : Eigen::Vector3f::UnitZ();
+    Eigen::Vector3f corner[3] = {n, n, n};
+    if (smooth)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = g.triangles[3 * t + k];
+        const float m = vertexNormal[v].norm();
+        if (g.vertexWall[v] >= 0 && m > 0) corner[k] = vertexNormal[v] / m;
+      }
     const double value =
         t < static_cast<int>(values.size()) ? values[t] : std::numeric_limits<double>::quiet_NaN();
     const Eigen::Vector3f rgb = map.color(value);
     const float flags = float((g.clampedTriangle[t] ? kClamped : 0) | (g.outer[t] ? kOuter : 0));
-    for (const Eigen::Vector3f* p : {&a, &b, &c}) {
+    const Eigen::Vector3f* corners[3] = {&a, &b, &c};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3f* p = corners[k];
       out[0] = p->x(), out[1] = p->y(), out[2] = p->z();
-      out[3] = n.x(), out[4] = n.y(), out[5] = n.z();
+      out[3] = corner[k].x(), out[4] = corner[k].y(), out[5] = corner[k].z();
       out[6] = rgb.x(), out[7] = rgb.y(), out[8] = rgb.z();
       out[9] = float(g.triangleCell[t]), out[10] = float(g.triangleNeighbor[t]);
       out[11] = flags;

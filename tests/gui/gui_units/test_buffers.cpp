@@ -2,6 +2,8 @@
 // clamped points; the probe's sphere; automatic colour ranges.
 #include <QTest>
 
+#include <cmath>
+
 #include "SnapshotBuffers.h"
 #include "TestMain.h"
 #include "tissue/Shapes.h"
@@ -108,6 +110,51 @@ class BuffersTest : public QObject {
     };
     QVERIFY((colourOf(b, 3 * at(0)) - map.colorAt(0)).norm() < 1e-6f);
     QVERIFY((colourOf(b, 3 * at(T - 1)) - map.colorAt(1)).norm() < 1e-6f);
+  }
+
+  void shadingIsSmoothInsideAWallAndCrispOnItsOutline() {
+    // A sphere of one wall: every vertex is inside it, so every corner's normal is the mean of
+    // the triangles around it, within 3° of the sphere's radial direction, where the
+    // triangles' own normals are up to 9° off and more (a curved wall drawn smooth).
+    const tp::CellComplex sphere = tp::octaSphere(5.0, 3);
+    const Snapshot s = boxSnapshot(sphere);
+    for (int w : s.geometry->vertexWall) QCOMPARE(w, 0);
+    SnapshotBuffers b;
+    b.build(s, Field::VonMises, ColorMap{});
+    double worstCorner = 1, worstFlat = 1;
+    for (int i = 0; i < b.triangleVertexCount(); ++i) {
+      const float* v = b.triangleVertices().data() + i * SnapshotBuffers::kTriangleStride;
+      const Eigen::Vector3f x(v[0], v[1], v[2]), n(v[3], v[4], v[5]);
+      QVERIFY(std::abs(n.norm() - 1) < 1e-5f);
+      worstCorner = std::min(worstCorner, double(n.dot(x.normalized())));
+      if (i % 3 == 0) {
+        const float* w = v + SnapshotBuffers::kTriangleStride;
+        const float* u = w + SnapshotBuffers::kTriangleStride;
+        const Eigen::Vector3f flat = (Eigen::Vector3f(w[0], w[1], w[2]) - x)
+                                         .cross(Eigen::Vector3f(u[0], u[1], u[2]) - x)
+                                         .normalized();
+        worstFlat = std::min(worstFlat, double(flat.dot(x.normalized())));
+      }
+    }
+    // Measured: corners within 2.8° of radial, triangles up to 10.0° off.
+    QVERIFY2(worstCorner > std::cos(3.0 * M_PI / 180), qPrintable(QString::number(worstCorner)));
+    QVERIFY2(worstFlat < std::cos(9.0 * M_PI / 180), qPrintable(QString::number(worstFlat)));
+
+    // Two cubes: every vertex is on an outline (walls meet there), so every corner keeps its
+    // triangle's own normal and the cells keep their edges.
+    const tp::CellComplex box = tp::boxTissue(2, 1, 1, 5.0);
+    const Snapshot boxes = boxSnapshot(box);
+    for (int w : boxes.geometry->vertexWall) QCOMPARE(w, -1);
+    b.build(boxes, Field::VonMises, ColorMap{});
+    for (int i = 0; i < b.triangleVertexCount(); i += 3) {
+      const float* v = b.triangleVertices().data() + i * SnapshotBuffers::kTriangleStride;
+      const Eigen::Vector3f n(v[3], v[4], v[5]);
+      for (int k = 1; k < 3; ++k) {
+        const float* w = v + k * SnapshotBuffers::kTriangleStride;
+        QVERIFY((Eigen::Vector3f(w[3], w[4], w[5]) - n).norm() < 1e-6f);
+      }
+      QVERIFY(std::abs(std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z()) - 1) < 1e-6f);  // axis
+    }
   }
 
   void anotherFieldAnotherColour() {

@@ -1045,7 +1045,8 @@ class WindowTest : public QObject {
     const double normalTick = w_->plotPanel()->plot()->xAxis->tickLabelFont().pointSizeF();
     const QImage before = w_->view()->grabFramebuffer();
     const QSize windowSize = w_->size();
-    QTest::keyClick(w_.get(), Qt::Key_F5);
+    QCOMPARE(act->shortcut(), QKeySequence(Qt::Key_F5));
+    act->trigger();
     QVERIFY(act->isChecked());
     QCOMPARE(w_->menuBar()->font().pointSizeF(), 1.5 * normalPt);
     QCOMPARE(plotDock->font().pointSizeF(), 1.5 * normalPt);
@@ -1056,7 +1057,7 @@ class WindowTest : public QObject {
     QVERIFY(plotDock->isVisible());
     // The view has the room of the docks, and its overlay (depth/force, colour bar) is larger.
     QTRY_VERIFY(w_->view()->width() > before.width() / w_->view()->devicePixelRatioF() + 100);
-    QTest::keyClick(w_.get(), Qt::Key_F5);
+    act->trigger();
     QVERIFY(!act->isChecked());
     QCOMPARE(w_->menuBar()->font().pointSizeF(), normalPt);
     QCOMPARE(plotDock->font().pointSizeF(), normalPt);
@@ -1110,9 +1111,11 @@ class WindowTest : public QObject {
     c_->clearCurves();
     QCOMPARE(int(c_->curves().size()), 0);
     QString text;
+    const int preparation = c_->latest().preparation;
     answerNextMessageBox(QMessageBox::Open, &text);
     w_->offerRecovery();
     QVERIFY2(text.contains("did not close normally"), qPrintable(text));
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);  // its site again
     waitIdle();
     QCOMPARE(int(c_->curves().size()), n);
     QVERIFY(c_->hasUnsavedCurves());
