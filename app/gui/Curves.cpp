@@ -12,6 +12,27 @@ namespace tp::gui {
 namespace {
 
 constexpr const char* kPointColumns = "depth_um,force_uN,iterations,residual,converged,unloading";
+// Per curve, repeated on each of its rows so that a table program can filter and group by them
+// (empty for a measured curve, an unknown level or an error not estimated).
+constexpr const char* kCurveColumns =
+    "site_x_um,site_y_um,site_z_um,E_MPa,nu,h_um,p_MPa,probe_radius_um,mesh_level,mesh_error";
+constexpr int kCurveColumnCount = 10;
+
+std::string curveColumns(const NamedCurve& c) {
+  if (c.measured) return std::string(kCurveColumnCount - 1, ',');
+  char b[512];
+  std::snprintf(b, sizeof b, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,", c.site.x(),
+                c.site.y(), c.site.z(), c.params.youngModulus, c.params.poissonRatio,
+                c.params.thickness, c.params.pressure, c.params.probeRadius);
+  std::string out = b;
+  if (c.meshLevel >= 0) out += std::to_string(c.meshLevel);
+  out += ',';
+  if (c.meshError >= 0) {
+    std::snprintf(b, sizeof b, "%.6g", c.meshError);
+    out += b;
+  }
+  return out;
+}
 
 std::string quoted(const std::string& name) {
   std::string out = "\"";
@@ -70,15 +91,16 @@ std::string curvesCsv(const std::vector<NamedCurve>& curves) {
       if (ch == '\n' || ch == '\r') ch = ' ';
     out += line + "\n";
   }
-  out += std::string("curve,") + kPointColumns + "\n";
+  out += std::string("curve,") + kCurveColumns + ',' + kPointColumns + "\n";
   for (const NamedCurve& c : curves) {
-    // tp::curveCsv writes the five point columns exactly; add the name and `unloading`.
+    // tp::curveCsv writes the five point columns exactly; add the name, the curve's columns and
+    // `unloading`.
     const std::string body = curveCsv(c.points);
+    const std::string head = quoted(c.name) + ',' + curveColumns(c) + ',';
     size_t start = body.find('\n') + 1;  // past the header
     for (const CurvePoint& p : c.points) {
       const size_t end = body.find('\n', start);
-      out +=
-          quoted(c.name) + ',' + body.substr(start, end - start) + (p.unloading ? ",1\n" : ",0\n");
+      out += head + body.substr(start, end - start) + (p.unloading ? ",1\n" : ",0\n");
       start = end + 1;
     }
   }
@@ -95,6 +117,7 @@ std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
   size_t pos = 0;
   int line = 0;
   bool header = true;
+  int skip = 0;  // the curve columns after the name, when the file has them
   while (pos < text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
@@ -104,9 +127,13 @@ std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
     if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
     if (row.empty() || row.front() == '#') continue;
     if (header) {
-      if (row != std::string("curve,") + kPointColumns)
+      // This version's header, or the one before the curve columns (files of earlier versions).
+      const std::string now = std::string("curve,") + kCurveColumns + ',' + kPointColumns;
+      if (row == now)
+        skip = kCurveColumnCount;
+      else if (row != std::string("curve,") + kPointColumns)
         throw std::runtime_error(nameForErrors + ": line " + std::to_string(line) +
-                                 ": expected the header 'curve," + kPointColumns + "'");
+                                 ": expected the header '" + now + "'");
       header = false;
       continue;
     }
@@ -135,7 +162,16 @@ std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
       bodies.emplace_back(name, std::string(kPointColumns) + "\n");
       it = bodies.end() - 1;
     }
-    it->second.append(row.substr(i + 2));
+    size_t from = i + 2;  // past the name and its comma
+    for (int k = 0; k < skip; ++k) {
+      const size_t comma = row.find(',', from);
+      if (comma == std::string_view::npos)
+        throw std::runtime_error(nameForErrors + ": line " + std::to_string(line) + ": expected " +
+                                 std::to_string(kCurveColumnCount) +
+                                 " curve columns after the name");
+      from = comma + 1;
+    }
+    it->second.append(row.substr(from));
     it->second += '\n';
   }
   std::vector<std::pair<std::string, std::vector<CurvePoint>>> out;

@@ -46,13 +46,16 @@ std::string curveName(int siteNumber, const Eigen::Vector3d& site, const Simulat
                       bool live);
 
 /// Long-format CSV, one row per point of every curve:
-///   curve,depth_um,force_uN,iterations,residual,converged,unloading
+///   curve,site_x_um,site_y_um,site_z_um,E_MPa,nu,h_um,p_MPa,probe_radius_um,mesh_level,
+///   mesh_error,depth_um,force_uN,iterations,residual,converged,unloading
 /// after one `#` comment line per curve naming its mesh and estimated discretisation error.
-/// The curve name is quoted ("" for a quote inside); numbers as tp::curveCsv writes them.
+/// The curve name is quoted ("" for a quote inside); the site and parameters repeat on each of
+/// its rows (empty for a measured curve); numbers as tp::curveCsv writes them.
 std::string curvesCsv(const std::vector<NamedCurve>& curves);
 /// Writes curvesCsv atomically; throws std::runtime_error if writing fails.
 void writeCurvesCsv(const std::string& path, const std::vector<NamedCurve>& curves);
-/// Reads the long format back: (name, points) in the order the curves first appear. Throws
+/// Reads the long format back (also without the curve columns, as earlier versions wrote it):
+/// (name, points) in the order the curves first appear. Throws
 /// std::runtime_error naming `nameForErrors` and the line.
 std::vector<std::pair<std::string, std::vector<CurvePoint>>> parseCurvesCsv(
     std::string_view text, const std::string& nameForErrors);

@@ -322,8 +322,28 @@ class FilesTest : public QObject {
     }
     QCOMPARE(int(comments), 3);
     QCOMPARE(int(rows), 1 + 6 + 7 + 6);
-    QVERIFY(text.find("\ncurve,depth_um,force_uN,iterations,residual,converged,unloading\n") !=
-            std::string::npos);
+    QVERIFY(text.find("\ncurve,site_x_um,site_y_um,site_z_um,E_MPa,nu,h_um,p_MPa,"
+                      "probe_radius_um,mesh_level,mesh_error,depth_um,force_uN,iterations,"
+                      "residual,converged,unloading\n") != std::string::npos);
+    // Every row carries its curve's site and parameters (for filtering in a table program).
+    {
+      const size_t first = text.find("\n\"site 1");
+      QVERIFY(first != std::string::npos);
+      const std::string row = text.substr(first + 1, text.find('\n', first + 1) - first - 1);
+      // Past the quoted name (which has commas of its own): the curve's 10, the point's 6.
+      const QStringList cells =
+          (QStringLiteral("name,") + QString::fromStdString(row.substr(row.find("\",") + 2)))
+              .split(',');
+      const NamedCurve& c = curves[0];
+      QCOMPARE(cells.size(), 1 + 10 + 6);
+      QCOMPARE(cells[1].toDouble(), c.site.x());
+      QCOMPARE(cells[3].toDouble(), c.site.z());
+      QCOMPARE(cells[4].toDouble(), c.params.youngModulus);
+      QCOMPARE(cells[5].toDouble(), c.params.poissonRatio);
+      QCOMPARE(cells[7].toDouble(), c.params.pressure);
+      QCOMPARE(cells[8].toDouble(), c.params.probeRadius);
+      QCOMPARE(cells[9], c.meshLevel >= 0 ? QString::number(c.meshLevel) : QString());
+    }
     QVERIFY(text.rfind("# \"site 1 (0.0, 0.0, 45.8) µm · E 100 MPa\": mesh level", 0) == 0);
     const auto back = parseCurvesCsv(text, "curves.csv");
     QCOMPARE(int(back.size()), 3);
@@ -331,6 +351,22 @@ class FilesTest : public QObject {
       QCOMPARE(back[i].first, curves[i].name);
       QVERIFY(samePoints(back[i].second, curves[i].points));
     }
+    // A file of an earlier version (no curve columns) still reads.
+    std::string old = text;
+    const std::string oldHeader = "curve,depth_um,force_uN,iterations,residual,converged,unloading";
+    old.replace(old.find("curve,site_x_um"), old.find('\n', old.find("curve,site_x_um")) -
+                old.find("curve,site_x_um"), oldHeader);
+    for (size_t p = old.find("\n\""); p != std::string::npos; p = old.find("\n\"", p + 1)) {
+      size_t after = p + 2;  // past the name's closing quote ("" inside it is a quote) and comma
+      while (old[after] != '"' || old[after + 1] == '"') after += old[after] == '"' ? 2 : 1;
+      after += 2;
+      size_t cut = after;
+      for (int k = 0; k < 10; ++k) cut = old.find(',', cut) + 1;
+      old.erase(after, cut - after);
+    }
+    const auto oldBack = parseCurvesCsv(old, "old.csv");
+    QCOMPARE(int(oldBack.size()), 3);
+    for (int i = 0; i < 3; ++i) QVERIFY(samePoints(oldBack[i].second, curves[i].points));
     // Written atomically to a file, read back the same.
     QTemporaryDir dir;
     const std::string path = (dir.path() + "/curves.csv").toStdString();
