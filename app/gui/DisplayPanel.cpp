@@ -81,6 +81,11 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
                        "that the force does not depend on it (see the mesh level and its "
                        "estimated error in the status bar)."));
   form->addRow(mesh_);
+  glyphs_ = new QCheckBox(tr("Principal directions"));
+  glyphs_->setObjectName("glyphsCheckBox");
+  glyphs_->setToolTip(tr("A short line on every triangle along its largest principal stress, "
+                         "longer where that stress is larger: how the walls are pulled"));
+  form->addRow(glyphs_);
   deformation_ = new QDoubleSpinBox;
   deformation_->setObjectName("deformationScale");
   deformation_->setRange(1.0, 50.0);
@@ -147,6 +152,7 @@ DisplayPanel::DisplayPanel(QWidget* parent) : QWidget(parent) {
     });
   connect(outlines_, &QCheckBox::toggled, this, &DisplayPanel::outlinesChanged);
   connect(mesh_, &QCheckBox::toggled, this, &DisplayPanel::meshChanged);
+  connect(glyphs_, &QCheckBox::toggled, this, &DisplayPanel::glyphsChanged);
   connect(section_, &QCheckBox::toggled, this, &DisplayPanel::emitSection);
   connect(axis_, &QComboBox::currentIndexChanged, this, &DisplayPanel::emitSection);
   connect(position_, &QSlider::valueChanged, this, &DisplayPanel::emitSection);
@@ -189,6 +195,7 @@ DisplaySettings DisplayPanel::settings() const {
   d.hi = hi_->value();
   d.outlines = outlines_->isChecked();
   d.mesh = mesh_->isChecked();
+  d.glyphs = glyphs_->isChecked();
   d.deformationScale = deformation_->value();
   d.section = section_->isChecked();
   d.sectionAxis = axis_->currentIndex();
@@ -210,6 +217,7 @@ void DisplayPanel::applySettings(const DisplaySettings& d) {
   auto_->setChecked(d.autoRange);
   outlines_->setChecked(d.outlines);
   mesh_->setChecked(d.mesh);
+  glyphs_->setChecked(d.glyphs);
   deformation_->setValue(d.deformationScale);
   axis_->setCurrentIndex(std::clamp(d.sectionAxis, 0, 2));
   position_->setValue(int(std::lround(1000 * std::clamp(d.sectionPosition, 0.0, 1.0))));

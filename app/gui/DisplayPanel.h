@@ -48,6 +48,7 @@ class DisplayPanel : public QWidget {
   void rangeChanged(double lo, double hi);
   void outlinesChanged(bool on);
   void meshChanged(bool on);
+  void glyphsChanged(bool on);
   void sectionChanged(bool enabled, int axis, double fraction, bool flip);
   void deformationScaleChanged(double scale);
 
@@ -56,7 +57,7 @@ class DisplayPanel : public QWidget {
   void updateUnits();
 
   QComboBox *field_, *map_, *axis_;
-  QCheckBox *auto_, *outlines_, *mesh_, *section_, *flip_;
+  QCheckBox *auto_, *outlines_, *mesh_, *glyphs_, *section_, *flip_;
   QDoubleSpinBox *lo_, *hi_, *deformation_;
   QSlider* position_;
   bool lastFieldWasChange_ = false;

@@ -74,7 +74,8 @@ bool GlRenderer::initialize(QString* error) {
 
   // Position-only arrays: outlines, clamped vertices, the probe's stem.
   for (auto [vao, vbo] : {std::pair{&lineVao_, &lineVbo_}, std::pair{&meshVao_, &meshVbo_},
-                          std::pair{&pointVao_, &pointVbo_}, std::pair{&stemVao_, &stemVbo_}}) {
+                          std::pair{&pointVao_, &pointVbo_}, std::pair{&stemVao_, &stemVbo_},
+                          std::pair{&glyphVao_, &glyphVbo_}}) {
     vao->create();
     vao->bind();
     vbo->create();
@@ -104,14 +105,14 @@ bool GlRenderer::initialize(QString* error) {
 
 void GlRenderer::release() {
   if (!initialized_) return;
-  for (auto* b : {&wallVbo_, &lineVbo_, &meshVbo_, &pointVbo_, &sphereVbo_, &stemVbo_})
+  for (auto* b : {&wallVbo_, &lineVbo_, &meshVbo_, &pointVbo_, &sphereVbo_, &stemVbo_, &glyphVbo_})
     b->destroy();
-  for (auto* v : {&wallVao_, &lineVao_, &meshVao_, &pointVao_, &sphereVao_, &stemVao_})
+  for (auto* v : {&wallVao_, &lineVao_, &meshVao_, &pointVao_, &sphereVao_, &stemVao_, &glyphVao_})
     v->destroy();
   walls_.reset();
   lines_.reset();
   wallVertices_ = lineVertices_ = meshVertices_ = pointVertices_ = outerWallVertices_ =
-      outerLineVertices_ = outerMeshVertices_ = 0;
+      outerLineVertices_ = outerMeshVertices_ = glyphVertices_ = outerGlyphVertices_ = 0;
   initialized_ = false;
 }
 
@@ -127,6 +128,9 @@ void GlRenderer::upload(const SnapshotBuffers& b) {
   put(meshVbo_, b.meshVertices());
   meshVertices_ = b.meshVertexCount();
   outerMeshVertices_ = b.outerMeshVertexCount();
+  put(glyphVbo_, b.glyphVertices());
+  glyphVertices_ = b.glyphVertexCount();
+  outerGlyphVertices_ = b.outerGlyphVertexCount();
   put(pointVbo_, b.clampedPoints());
   wallVertices_ = b.triangleVertexCount();
   lineVertices_ = b.lineVertexCount();
@@ -182,6 +186,12 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
     meshVao_.bind();
     glDrawArrays(GL_LINES, 0, f.clip ? meshVertices_ : outerMeshVertices_);
     meshVao_.release();
+  }
+  if (f.glyphs && glyphVertices_ > 0) {
+    lines_->setUniformValue("color", QVector4D(0.05f, 0.05f, 0.08f, 1.0f));
+    glyphVao_.bind();
+    glDrawArrays(GL_LINES, 0, f.clip ? glyphVertices_ : outerGlyphVertices_);
+    glyphVao_.release();
   }
   if (f.outlines && lineVertices_ > 0) {
     lines_->setUniformValue("color", QVector4D(0.08f, 0.08f, 0.1f, 1.0f));

@@ -28,6 +28,7 @@ class GlRenderer : protected QOpenGLExtraFunctions {
     int highlightCell = -1;
     bool outlines = true;
     bool mesh = false;  // every triangle edge: where the mesh is refined
+    bool glyphs = false;  // principal-stress directions
     bool clampedPoints = true;
     bool probe = false;
     Eigen::Vector3f probeCenter = Eigen::Vector3f::Zero();  // µm
@@ -54,8 +55,9 @@ class GlRenderer : protected QOpenGLExtraFunctions {
  private:
   bool initialized_ = false;
   std::unique_ptr<QOpenGLShaderProgram> walls_, lines_;
-  QOpenGLVertexArrayObject wallVao_, lineVao_, meshVao_, pointVao_, sphereVao_, stemVao_;
-  QOpenGLBuffer wallVbo_, lineVbo_, meshVbo_, pointVbo_, sphereVbo_, stemVbo_;
+  QOpenGLVertexArrayObject wallVao_, lineVao_, meshVao_, pointVao_, sphereVao_, stemVao_, glyphVao_;
+  QOpenGLBuffer wallVbo_, lineVbo_, meshVbo_, pointVbo_, sphereVbo_, stemVbo_, glyphVbo_;
+  int glyphVertices_ = 0, outerGlyphVertices_ = 0;
   int wallVertices_ = 0, lineVertices_ = 0, meshVertices_ = 0, pointVertices_ = 0,
       sphereVertices_ = 0;
   // The leading parts seen without a cut.

@@ -407,6 +407,7 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::rangeChanged, view_, &TissueView::setRange);
   connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
+  connect(display_, &DisplayPanel::glyphsChanged, view_, &TissueView::setGlyphsVisible);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
   connect(c, &SimulationController::fitFinished, this, &MainWindow::showFit);

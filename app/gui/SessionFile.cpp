@@ -84,6 +84,7 @@ json displayToJson(const DisplaySettings& d) {
             {"range", {d.lo, d.hi}},
             {"outlines", d.outlines},
             {"mesh", d.mesh},
+            {"principal_directions", d.glyphs},
             {"deformation_scale", d.deformationScale},
             {"section",
              {{"on", d.section},
@@ -143,6 +144,7 @@ DisplaySettings displayFromJson(const json& j) {
   }
   boolean(j, "outlines", d.outlines, "display.");
   boolean(j, "mesh", d.mesh, "display.");
+  boolean(j, "principal_directions", d.glyphs, "display.");
   number(j, "deformation_scale", 1.0, 50.0, d.deformationScale, "display.");
   if (j.contains("section")) {
     const json& sec = j.at("section");

@@ -7,7 +7,8 @@
 //    "curves": [{"name": "...", "site": [x, y, z], "parameters": {...}, "live": false,
 //                "points": [[depth, force, iterations, residual, converged, unloading], ...]}],
 //    "display": {"quantity": "von_mises", "colour_map": "viridis", "auto_range": true,
-//                "range": [0, 20], "outlines": true, "mesh": false, "deformation_scale": 1,
+//                "range": [0, 20], "outlines": true, "mesh": false, "principal_directions": false,
+//                "deformation_scale": 1,
 //                "section": {"on": false, "axis": "y", "position": 0.5, "keep_other_side": false},
 //                "camera": {"target": [x, y, z], "orientation": [w, x, y, z], "distance": d}},
 //    "map": {"plan": {...}, "parameters": {...}, "results": [...]}}   (see SessionMap)
@@ -31,6 +32,7 @@ struct DisplaySettings {
   bool autoRange = true;
   double lo = 0, hi = 1;  // the manual range, in the quantity's unit
   bool outlines = true, mesh = false;
+  bool glyphs = false;  // principal-stress directions drawn
   double deformationScale = 1;  // 1..50
   bool section = false;
   int sectionAxis = 1;            // 0 x, 1 y, 2 z

@@ -77,6 +77,31 @@ void fillFields(const Model* model, const CellComplex& cc, const Points& x, cons
   const QuantityInputs in{st ? &*st : nullptr, turgidStress, &cc, &x, turgid};
   const auto values = triangleQuantities(in);
   for (int q = 0; q < kFieldCount; ++q) s.fields[q].assign(values[q].begin(), values[q].end());
+  s.principalAxes.clear();
+  if (!st) return;
+  // The largest principal stress of each triangle's Cauchy tensor read in its plane (basis e₁
+  // along an edge, e₂ = n × e₁): σ₁ = (s₁₁+s₂₂)/2 + √(((s₁₁−s₂₂)/2)² + s₁₂²), along the angle
+  // θ = ½ atan2(2 s₁₂, s₁₁ − s₂₂) from e₁ (Mohr's circle).
+  const int T = cc.triangleCount();
+  s.principalAxes.resize(3 * static_cast<size_t>(T));
+  for (int t = 0; t < T; ++t) {
+    const auto& tri = cc.triangles[t];
+    const Vec3 a = x.col(tri[0]), b = x.col(tri[1]), c = x.col(tri[2]);
+    Vec3 e1 = b - a, n = (b - a).cross(c - a);
+    Vec3 axis = Vec3::Zero();
+    if (e1.norm() > 0 && n.norm() > 0 && t < static_cast<int>(st->triangles.size())) {
+      e1.normalize();
+      n.normalize();
+      const Vec3 e2 = n.cross(e1);
+      const Mat3& sigma = st->triangles[t].cauchy;
+      const double s11 = e1.dot(sigma * e1), s22 = e2.dot(sigma * e2),
+                   s12 = 0.5 * (e1.dot(sigma * e2) + e2.dot(sigma * e1));
+      const double s1 = 0.5 * (s11 + s22) + std::hypot(0.5 * (s11 - s22), s12);
+      const double theta = 0.5 * std::atan2(2 * s12, s11 - s22);
+      axis = s1 * (std::cos(theta) * e1 + std::sin(theta) * e2);
+    }
+    for (int k = 0; k < 3; ++k) s.principalAxes[3 * t + k] = static_cast<float>(axis[k]);
+  }
 }
 
 std::string describePoint(const CurvePoint& p) {

@@ -81,6 +81,9 @@ struct Snapshot {
   std::vector<float> positions;                        // 3V, µm
   std::vector<float> turgidPositions;                  // 3V, the turgid state (empty at rest)
   std::array<std::vector<float>, kFieldCount> fields;  // T values each, units of fieldUnit
+  // 3T: per triangle, the in-plane direction of the largest principal stress times that stress
+  // σ₁ (MPa); empty when there is no stress (a tissue at rest before its turgid state).
+  std::vector<float> principalAxes;
   std::vector<double> cellVolumes;                     // C, current volumes, µm³
   Phase phase = Phase::Rest;
 

@@ -17,6 +17,8 @@ void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
   triangles_.clear();
   lines_.clear();
   mesh_.clear();
+  glyphs_.clear();
+  outerGlyphVertices_ = 0;
   outerTriangleVertices_ = outerLineVertices_ = outerMeshVertices_ = 0;
   points_.clear();
   bounds_.setEmpty();
@@ -77,6 +79,32 @@ void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
       out[11] = flags;
       out += kTriangleStride;
     }
+  }
+
+  if (s.principalAxes.size() == 3 * static_cast<size_t>(T)) {
+    std::vector<float> magnitude(T);
+    for (int t = 0; t < T; ++t)
+      magnitude[t] = Eigen::Map<const Eigen::Vector3f>(&s.principalAxes[3 * t]).norm();
+    std::vector<float> sorted = magnitude;
+    const size_t k = static_cast<size_t>(0.995 * (T - 1));
+    std::nth_element(sorted.begin(), sorted.begin() + k, sorted.end());
+    const float top = sorted[k];
+    glyphs_.reserve(6 * static_cast<size_t>(T));
+    for (size_t i = 0; i < order.size(); ++i) {
+      const int t = order[i];
+      if (static_cast<int>(i) * 3 == outerTriangleVertices_) outerGlyphVertices_ = glyphVertexCount();
+      if (!(top > 0) || !(magnitude[t] > 0)) continue;
+      const Eigen::Vector3f a = vertex(g.triangles[3 * t]), b = vertex(g.triangles[3 * t + 1]),
+                            c = vertex(g.triangles[3 * t + 2]);
+      const float area = 0.5f * (b - a).cross(c - a).norm();
+      const Eigen::Vector3f d = Eigen::Map<const Eigen::Vector3f>(&s.principalAxes[3 * t]);
+      const float half = 0.4f * std::sqrt(area) * std::min(1.0f, magnitude[t] / top);
+      const Eigen::Vector3f m = (a + b + c) / 3.0f, p = m - half * d / magnitude[t],
+                            q = m + half * d / magnitude[t];
+      glyphs_.insert(glyphs_.end(), {p.x(), p.y(), p.z(), q.x(), q.y(), q.z()});
+    }
+    if (3 * static_cast<int>(order.size()) == outerTriangleVertices_)
+      outerGlyphVertices_ = glyphVertexCount();  // every triangle is outer
   }
 
   lines_.reserve(g.outlineEdges.size() * 3);

@@ -38,6 +38,12 @@ class SnapshotBuffers {
   int lineVertexCount() const { return static_cast<int>(lines_.size()) / kLineStride; }
   /// Every triangle edge (the mesh), outer-surface edges first.
   const std::vector<float>& meshVertices() const { return mesh_; }
+  /// Principal-stress glyphs: per triangle a segment through its centroid along the direction
+  /// of its largest principal stress, its length up to 0.8 √area in proportion to |σ₁| (of the
+  /// largest |σ₁| on the tissue, past its 0.5 % most extreme triangles); outer surface first.
+  const std::vector<float>& glyphVertices() const { return glyphs_; }
+  int glyphVertexCount() const { return static_cast<int>(glyphs_.size()) / kLineStride; }
+  int outerGlyphVertexCount() const { return outerGlyphVertices_; }
   int meshVertexCount() const { return static_cast<int>(mesh_.size()) / kLineStride; }
   int outerMeshVertexCount() const { return outerMeshVertices_; }
   const std::vector<float>& clampedPoints() const { return points_; }
@@ -46,7 +52,8 @@ class SnapshotBuffers {
   const Eigen::AlignedBox3d& bounds() const { return bounds_; }
 
  private:
-  std::vector<float> triangles_, lines_, mesh_, points_;
+  std::vector<float> triangles_, lines_, mesh_, points_, glyphs_;
+  int outerGlyphVertices_ = 0;
   int outerTriangleVertices_ = 0, outerLineVertices_ = 0, outerMeshVertices_ = 0;
   Eigen::AlignedBox3d bounds_;
 };

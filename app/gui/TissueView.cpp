@@ -332,6 +332,12 @@ void TissueView::setMeshVisible(bool on) {
   update();
 }
 
+void TissueView::setGlyphsVisible(bool on) {
+  if (on == glyphs_) return;
+  glyphs_ = on;
+  update();
+}
+
 void TissueView::setRotationMode(Camera::RotationMode mode) {
   camera_.setRotationMode(mode);
 }
@@ -571,6 +577,7 @@ GlRenderer::Frame TissueView::frame(const Camera& cam) const {
   f.highlightCell = highlight_;
   f.outlines = outlines_;
   f.mesh = mesh_;
+  f.glyphs = glyphs_;
   f.probe = snapshot_.probeVisible;
   f.probeCenter = snapshot_.probeCenter().cast<float>();
   f.probeRadius = float(snapshot_.probeRadius);

@@ -94,6 +94,9 @@ class TissueView : public QOpenGLWidget {
   /// Draws every triangle's edges, to show where the mesh is refined around the site.
   void setMeshVisible(bool on);
   bool meshVisible() const { return mesh_; }
+  /// Draws the direction of each triangle's largest principal stress as a short line.
+  void setGlyphsVisible(bool on);
+  bool glyphsVisible() const { return glyphs_; }
   void setRotationMode(tp::gui::Camera::RotationMode mode);
   /// Presentation (teaching) mode: the overlay text, colour bar and site labels drawn `scale`
   /// times larger (1: normal), on opaque panels.
@@ -170,6 +173,7 @@ class TissueView : public QOpenGLWidget {
   std::vector<SiteMarker> markers_;  // extremes of the field shown (the colour bar flags clipping)
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
   bool mesh_ = false;
+  bool glyphs_ = false;
   int sectionAxis_ = 0;
   double sectionFraction_ = 0.5;
 

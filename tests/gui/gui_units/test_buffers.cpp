@@ -157,6 +157,47 @@ class BuffersTest : public QObject {
     }
   }
 
+  void principalDirectionsAreSegmentsThroughTheCentroids() {
+    // σ₁ along x everywhere, twice as large on the first triangle: every segment lies along x
+    // through its triangle's centroid, 0.8 √area long at the scale's σ₁ (the 99.5th percentile,
+    // here 10: the one outlier beyond it is capped, not allowed to shrink all others); outer
+    // triangles first.
+    const tp::CellComplex cc = tp::boxTissue(2, 2, 2, 5.0);
+    Snapshot s = boxSnapshot(cc);
+    const int T = cc.triangleCount();
+    s.principalAxes.assign(3 * T, 0.0f);
+    for (int t = 0; t < T; ++t) s.principalAxes[3 * t] = t == 0 ? 20.0f : 10.0f;
+    SnapshotBuffers b;
+    b.build(s, Field::VonMises, ColorMap{});
+    QCOMPARE(b.glyphVertexCount(), 2 * T);
+    int outer = 0;
+    for (int t = 0; t < T; ++t) outer += cc.isOuterTriangle(t);
+    QCOMPARE(b.outerGlyphVertexCount(), 2 * outer);
+    std::vector<int> order;
+    for (int pass = 0; pass < 2; ++pass)
+      for (int t = 0; t < T; ++t)
+        if (cc.isOuterTriangle(t) == (pass == 0)) order.push_back(t);
+    for (int i = 0; i < T; ++i) {
+      const int t = order[i];
+      const float* g = b.glyphVertices().data() + 6 * i;
+      const Eigen::Vector3f p(g[0], g[1], g[2]), q(g[3], g[4], g[5]);
+      const auto& tri = cc.triangles[t];
+      const Eigen::Vector3d a = cc.rest.col(tri[0]), bb = cc.rest.col(tri[1]),
+                            c = cc.rest.col(tri[2]);
+      const Eigen::Vector3f centroid = ((a + bb + c) / 3).cast<float>();
+      const float area = float(0.5 * (bb - a).cross(c - a).norm());
+      QVERIFY(((p + q) / 2 - centroid).norm() < 1e-5f);
+      QVERIFY(std::abs(p.y() - q.y()) < 1e-6f && std::abs(p.z() - q.z()) < 1e-6f);
+      // All triangles of these cubes have one area: 10 is the largest past the top 0.5 %.
+      QVERIFY2(std::abs((q - p).norm() - 0.8f * std::sqrt(area)) < 1e-4f,
+               qPrintable(QString::number((q - p).norm())));
+    }
+    // No stress (a tissue at rest): no glyphs.
+    s.principalAxes.clear();
+    b.build(s, Field::VonMises, ColorMap{});
+    QCOMPARE(b.glyphVertexCount(), 0);
+  }
+
   void anotherFieldAnotherColour() {
     const tp::CellComplex cc = tp::boxTissue(1, 1, 1, 5.0);
     Snapshot s = boxSnapshot(cc);

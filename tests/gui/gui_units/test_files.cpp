@@ -121,6 +121,7 @@ class FilesTest : public QObject {
     d.hi = 4.25;
     d.outlines = false;
     d.mesh = true;
+    d.glyphs = true;
     d.deformationScale = 20;
     d.section = true;
     d.sectionAxis = 2;
@@ -139,6 +140,7 @@ class FilesTest : public QObject {
     QCOMPARE(got.hi, 4.25);
     QCOMPARE(got.outlines, false);
     QCOMPARE(got.mesh, true);
+    QCOMPARE(got.glyphs, true);
     QCOMPARE(got.deformationScale, 20.0);
     QCOMPARE(got.section, true);
     QCOMPARE(got.sectionAxis, 2);

@@ -5,6 +5,7 @@
 // screenshot of the whole window is written and checked for content.
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
@@ -273,6 +274,16 @@ class WindowTest : public QObject {
     view_->setField(Field::Displacement);
     QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.01);
     view_->setField(Field::VonMises);
+    // Principal directions: a line on every outer triangle of the turgid (stressed) tissue.
+    QVERIFY(!c_->latest().principalAxes.empty());
+    auto* glyphs = w_->displayPanel()->findChild<QCheckBox*>("glyphsCheckBox");
+    QVERIFY(glyphs);
+    glyphs->setChecked(true);
+    QVERIFY(view_->glyphsVisible());
+    QVERIFY(w_->displayPanel()->settings().glyphs);
+    QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.01);
+    glyphs->setChecked(false);
+    QVERIFY(changedFraction(plain, view_->grabFramebuffer()) < 0.001);
   }
 
   void deformationScaleMagnifiesTheDimple() {
