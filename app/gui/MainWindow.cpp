@@ -408,6 +408,7 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
   connect(display_, &DisplayPanel::glyphsChanged, view_, &TissueView::setGlyphsVisible);
+  connect(view_, &TissueView::siteMarkerClicked, this, &MainWindow::selectSite);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);
   connect(c, &SimulationController::fitFinished, this, &MainWindow::showFit);
@@ -630,20 +631,39 @@ void MainWindow::showMapSite(const Eigen::Vector3d& restPoint) {
                                           : QString()));
 }
 
+namespace {
+
+// The site a curve belongs to: the nearest within 2 µm of its own point (a site's point moves a
+// little when it is prepared again with other parameters), or −1.
+int siteOf(const std::vector<Eigen::Vector3d>& sites, const NamedCurve& curve) {
+  int best = -1;
+  double bestDistance = 2.0;  // µm: farther, the curve is of a site not in the list
+  for (size_t i = 0; i < sites.size(); ++i) {
+    const double d = (sites[i] - curve.site).norm();
+    if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
+  }
+  return best;
+}
+
+}  // namespace
+
+bool MainWindow::selectSite(int number) {
+  const auto& curves = controller_->curves();
+  for (int k = static_cast<int>(curves.size()) - 1; k >= 0; --k)
+    if (!curves[k].measured && siteOf(controller_->sites(), curves[k]) == number - 1) {
+      plot_->setSelectedCurve(k);  // the list, the graph and the disc follow
+      statusBar()->showMessage(tr("Site %1: its newest curve is selected").arg(number), 4000);
+      return true;
+    }
+  statusBar()->showMessage(tr("Site %1 has no curve yet").arg(number), 4000);
+  return false;
+}
+
 void MainWindow::updateSiteMarkers() {
-  // Each curve belongs to the site nearest its own (a site's point moves a little when it is
-  // prepared again with other parameters); a site takes the colour of its newest curve.
+  // A site takes the colour of its newest curve.
   const auto& sites = controller_->sites();
   const auto& curves = controller_->curves();
-  auto siteOf = [&](const NamedCurve& curve) {
-    int best = -1;
-    double bestDistance = 2.0;  // µm: farther, the curve is of a site not in the list
-    for (size_t i = 0; i < sites.size(); ++i) {
-      const double d = (sites[i] - curve.site).norm();
-      if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
-    }
-    return best;
-  };
+  auto siteOf = [&](const NamedCurve& curve) { return tp::gui::siteOf(sites, curve); };
   std::vector<TissueView::SiteMarker> markers(sites.size());
   for (size_t i = 0; i < sites.size(); ++i) {
     markers[i].position = sites[i];

@@ -51,6 +51,9 @@ class MainWindow : public QMainWindow {
   void autosaveNow();
   /// Offers to recover the newest session a crashed window left (asked once at start).
   void offerRecovery();
+  /// Selects the newest curve of site `number` (as the legend names it), which highlights its
+  /// graph and its disc; a click on a site's disc does this. False when it has no curve.
+  bool selectSite(int number);
 
  protected:
   bool eventFilter(QObject* watched, QEvent* e) override;

@@ -81,6 +81,12 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   });
   connect(clear, &QPushButton::clicked, this, &PlotPanel::clearRequested);
   connect(nondim_, &QCheckBox::toggled, this, &PlotPanel::redraw);
+  // A click on a curve's graph (its loading or unloading branch) selects it, as in the list.
+  connect(plot_, &QCustomPlot::plottableClick, this,
+          [this](QCPAbstractPlottable* p, int, QMouseEvent*) {
+            for (const auto& [graph, curve] : graphCurve_)
+              if (graph == p) setSelectedCurve(curve);
+          });
   connect(list_, &QListWidget::currentRowChanged, this, [this](int row) {
     redraw();
     emit selectionChanged(row);
@@ -96,6 +102,10 @@ void PlotPanel::setNondimensional(bool on) {
 }
 int PlotPanel::selectedCurve() const {
   return list_->currentRow();
+}
+void PlotPanel::setSelectedCurve(int index) {
+  list_->setCurrentRow(index >= 0 && index < list_->count() ? index : -1);
+  if (list_->currentRow() < 0) list_->clearSelection();
 }
 
 namespace {
@@ -166,10 +176,12 @@ void PlotPanel::setPresentation(bool on) {
 void PlotPanel::redraw() {
   const bool nd = nondimensional() && cellSize_ > 0;
   plot_->clearGraphs();
+  graphCurve_.clear();
   for (size_t i = 0; i < curves_.size(); ++i) {
     const NamedCurve& c = curves_[i];
     const AxisScale s = axisScale(nd, cellSize_, c.params.youngModulus);
     QCPGraph* g = plot_->addGraph();
+    graphCurve_.emplace_back(g, static_cast<int>(i));
     g->setName(legendLabel(c));
     QColor colour = colourOf(c, static_cast<int>(i));
     // The curve selected in the list stands out: thicker, the others faded.
@@ -202,6 +214,7 @@ void PlotPanel::redraw() {
         uy.prepend(y.back());
       }
       QCPGraph* u = plot_->addGraph();
+      graphCurve_.emplace_back(u, static_cast<int>(i));
       u->setName(label(c) + tr(" (unloading)"));
       u->setPen(QPen(colour, (highlighted ? 3.6 : 1.8) * k, Qt::DotLine));
       u->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, colour, 5 * k));

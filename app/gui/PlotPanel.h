@@ -7,12 +7,14 @@
 #include <QString>
 #include <QWidget>
 
+#include <utility>
 #include <vector>
 
 #include "Curves.h"
 
 class QCheckBox;
 class QCustomPlot;
+class QCPAbstractPlottable;
 class QCPAxisRect;
 class QListWidget;
 
@@ -29,6 +31,8 @@ class PlotPanel : public QWidget {
   void setNondimensional(bool on);
   /// Index of the curve selected in the list, −1 if none.
   int selectedCurve() const;
+  /// Selects curve `index` in the list (−1: none), as a click on it or on its graph does.
+  void setSelectedCurve(int index);
   /// The colour curve `index` of the list is drawn in (it keeps it when others are removed).
   static QColor colourOf(const NamedCurve& curve, int index);
   /// Curves shown (a curve with an unloading branch draws two graphs).
@@ -86,6 +90,7 @@ class PlotPanel : public QWidget {
   bool presentation_ = false;
   QFont labelFont_, tickFont_, legendFont_;  // the normal look, restored after presenting
   QRect lastAxes_, lastLegend_;              // lastExportLayout()
+  std::vector<std::pair<const QCPAbstractPlottable*, int>> graphCurve_;  // graph → its curve
   void rememberExportLayout();
 };
 

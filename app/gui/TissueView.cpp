@@ -1,6 +1,7 @@
 #include "TissueView.h"
 
 #include <QFontMetricsF>
+#include <QLineF>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QOpenGLContext>
@@ -486,10 +487,12 @@ void TissueView::mouseMoveEvent(QMouseEvent* e) {
 void TissueView::mouseReleaseEvent(QMouseEvent* e) {
   const QPoint pos = e->position().toPoint();
   if (drag_ == Drag::Rotate && !moved_ && e->button() == Qt::LeftButton) {
-    // A click, not a drag: choose the indentation site.
+    // A click, not a drag: on a site's disc, select that site; else choose the indentation site.
     const std::optional<Hit> hit = pickAt(pos);
     const TissueGeometry* g = snapshot_.empty() ? nullptr : snapshot_.geometry.get();
-    if (!hit || !g) {
+    if (const int number = markerAt(pos); number > 0) {
+      emit siteMarkerClicked(number);
+    } else if (!hit || !g) {
       emit pickRejected(tr("No tissue under the cursor"));
     } else if (!g->outer[hit->triangle]) {
       emit pickRejected(tr("Pick a site on the outer surface (this is an inner wall)"));
@@ -641,6 +644,8 @@ void TissueView::paintSiteMarkers(QPainter& p, const QSize& size, double scale) 
   font.setPointSizeF(8.0 * scale);
   font.setBold(true);
   p.setFont(font);
+  const bool onScreen = size == this->size();  // not an offscreen image: clicks can find them
+  if (onScreen) drawnMarkers_.clear();
   for (const SiteMarker& m : markers_) {
     QPointF c;
     bool hidden = false;
@@ -657,11 +662,25 @@ void TissueView::paintSiteMarkers(QPainter& p, const QSize& size, double scale) 
       p.setBrush(fill);
     }
     p.drawEllipse(c, r, r);
+    if (onScreen && !hidden) drawnMarkers_.push_back({m.number, c, r});
     p.setPen(hidden ? fill : QColor(255, 255, 255));
     p.drawText(QRectF(c.x() - r, c.y() - r, 2 * r, 2 * r), Qt::AlignCenter,
                QString::number(m.number));
   }
   p.restore();
+}
+
+int TissueView::markerAt(const QPoint& pixel) const {
+  // The last drawn on top wins (markers are painted in order).
+  for (auto it = drawnMarkers_.rbegin(); it != drawnMarkers_.rend(); ++it)
+    if (QLineF(it->centre, QPointF(pixel)).length() <= it->radius + 1) return it->number;
+  return 0;
+}
+
+std::optional<QPointF> TissueView::markerCentre(int number) const {
+  for (const DrawnMarker& m : drawnMarkers_)
+    if (m.number == number) return m.centre;
+  return std::nullopt;
 }
 
 void TissueView::paintOverlay(QPainter& p, const QSize& size, double scale) const {

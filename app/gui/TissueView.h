@@ -46,6 +46,10 @@ class TissueView : public QOpenGLWidget {
   };
   void setSiteMarkers(std::vector<SiteMarker> markers);
   const std::vector<SiteMarker>& siteMarkers() const { return markers_; }
+  /// The number of the site disc drawn under a pixel (widget coordinates), or 0.
+  int markerAt(const QPoint& pixel) const;
+  /// Where disc `number` was last drawn on screen (widget pixels), if it was.
+  std::optional<QPointF> markerCentre(int number) const;
   /// The camera's pose, for a session.
   DisplaySettings::Camera cameraPose() const;
   /// Sets the camera's pose now and again when the next tissue is shown (a session sets it
@@ -122,6 +126,8 @@ class TissueView : public QOpenGLWidget {
   /// A click while the map is shown: the material point under it (µm, rest geometry).
   void mapPointPicked(const Eigen::Vector3d& restPoint);
   void pickRejected(const QString& why);
+  /// A click on a site's disc (its number): it selects that site's curve; no site is picked.
+  void siteMarkerClicked(int number);
   void hoverChanged(const QString& text);
   void depthRequested(double depth);
   /// The colour range in use (auto ranges follow the data).
@@ -170,7 +176,13 @@ class TissueView : public QOpenGLWidget {
   double lo_ = 0, hi_ = 1;  // manual range
   double dataLo_ = 0, dataHi_ = 1;
   std::optional<DisplaySettings::Camera> pendingPose_;
-  std::vector<SiteMarker> markers_;  // extremes of the field shown (the colour bar flags clipping)
+  std::vector<SiteMarker> markers_;
+  struct DrawnMarker {
+    int number;
+    QPointF centre;  // widget pixels, as last painted on screen
+    double radius;
+  };
+  mutable std::vector<DrawnMarker> drawnMarkers_;  // the discs on screen, for clicks
   bool sectionOn_ = false, sectionFlip_ = false, sectionKeepPositive_ = true, outlines_ = true;
   bool mesh_ = false;
   bool glyphs_ = false;

@@ -456,6 +456,46 @@ class WindowTest : public QObject {
     list->clearSelection();
     QCOMPARE(int(view_->siteMarkers().size()), 1);
     QCOMPARE(w_->plotPanel()->plot()->graph(0)->pen().widthF(), 1.8);
+
+    // A click on a graph selects its curve, as the list does: the deepest point of all curves
+    // (no other graph passes there) selects the curve it belongs to.
+    plot->replot();
+    int deepest = -1;
+    double deepestDepth = -1, deepestForce = 0;
+    for (int k = 0; k < int(c_->curves().size()); ++k)
+      for (const auto& q : c_->curves()[k].points)
+        if (q.depth > deepestDepth) deepestDepth = q.depth, deepestForce = q.force, deepest = k;
+    QVERIFY(deepest >= 0 && deepestDepth > 0.1);
+    const QPoint at(int(plot->xAxis->coordToPixel(deepestDepth)),
+                    int(plot->yAxis->coordToPixel(deepestForce)));
+    QTest::mouseClick(plot, Qt::LeftButton, {}, at);
+    QCOMPARE(w_->plotPanel()->selectedCurve(), deepest);
+    QCOMPARE(list->currentRow(), deepest);
+    QVERIFY(view_->siteMarkers().back().highlighted);  // and its site's disc
+    QCOMPARE(view_->siteMarkers().back().number, 2);
+    list->setCurrentRow(-1);
+    list->clearSelection();
+
+    // A click on a site's disc selects that site and picks no new site: site 1 has no curve.
+    view_->update();
+    QTRY_VERIFY(view_->markerCentre(1).has_value());
+    const QPoint disc = view_->markerCentre(1)->toPoint();
+    QCOMPARE(view_->markerAt(disc), 1);
+    QSignalSpy discClicks(view_, &TissueView::siteMarkerClicked);
+    const int sitesBefore = int(c_->sites().size());
+    sendMouse(view_, QEvent::MouseButtonPress, disc, Qt::LeftButton, Qt::LeftButton);
+    sendMouse(view_, QEvent::MouseButtonRelease, disc, Qt::LeftButton, Qt::NoButton);
+    QCOMPARE(discClicks.count(), 1);
+    QCOMPARE(discClicks.first().at(0).toInt(), 1);
+    QCOMPARE(int(c_->sites().size()), sitesBefore);
+    QCOMPARE(c_->currentSite(), 1);
+    QCOMPARE(w_->plotPanel()->selectedCurve(), -1);
+    // Site 2's newest curve, by its number (what its disc does once shown).
+    QVERIFY(!w_->selectSite(1));
+    QVERIFY(w_->selectSite(2));
+    QCOMPARE(w_->plotPanel()->selectedCurve(), newest);
+    list->setCurrentRow(-1);
+    list->clearSelection();
   }
 
   void exportsAreWrittenAndReadBack() {
