@@ -304,20 +304,26 @@ std::string SimulationController::uniqueName(const std::string& base) const {
 }
 
 void SimulationController::onRunStarted(int, bool rerun) {
-  // A run again on a finer mesh replaces the one whose error was above the tolerance.
-  if (rerun && lastRunCurve_ >= 0 && lastRunCurve_ < static_cast<int>(curves_.size())) {
-    curves_.erase(curves_.begin() + lastRunCurve_);
-    if (liveCurve_ > lastRunCurve_) --liveCurve_;
-  }
   NamedCurve c;
   c.site = latest_.site;
   c.params = latest_.params;
   c.preparation = latest_.preparation;
   c.meshLevel = latest_.geometry ? latest_.geometry->meshLevel : -1;
+  unsaved_ = true;
+  // A run again on a finer mesh replaces the one whose error was above the tolerance, in its
+  // place: it keeps its name, colour and position in the list (and so any selection of it).
+  if (rerun && lastRunCurve_ >= 0 && lastRunCurve_ < static_cast<int>(curves_.size())) {
+    NamedCurve& old = curves_[lastRunCurve_];
+    c.name = std::move(old.name);
+    c.colour = old.colour;
+    old = std::move(c);
+    runCurve_ = lastRunCurve_;
+    emit curvesChanged();
+    return;
+  }
   c.name = uniqueName(curveName(currentSite_ + 1, latest_.site, latest_.params, false));
   c.colour = nextColour_++;
   curves_.push_back(std::move(c));
-  unsaved_ = true;
   runCurve_ = lastRunCurve_ = static_cast<int>(curves_.size()) - 1;
   emit curvesChanged();
 }

@@ -6,6 +6,7 @@
 #include <QTest>
 
 #include <fstream>
+#include <set>
 
 #include "Picking.h"
 #include "SimulationController.h"
@@ -136,12 +137,27 @@ class ControllerTest : public QObject {
     c.setSchedule(s);
     QSignalSpy progress(&c, &SimulationController::runProgress);
     QSignalSpy meshText(&c, &SimulationController::meshErrorChanged);
+    // The run's curve keeps its name, colour and place in the list while a finer level's run
+    // replaces it (a measured curve added after it stays after it).
+    std::set<std::pair<std::string, int>> firstCurve;
+    connect(&c, &SimulationController::curvesChanged, this, [&] {
+      if (!c.curves().empty() && !c.curves()[0].measured)
+        firstCurve.emplace(c.curves()[0].name, c.curves()[0].colour);
+    });
     c.runCurve();
+    QTRY_VERIFY_WITH_TIMEOUT(progress.count() >= 1, 60000);
+    NamedCurve measured;
+    measured.name = "measured";
+    measured.points = {tp::CurvePoint{0.1, 0.2, 0, 0.0, true, false}};
+    c.addMeasuredCurve(measured);
     QTRY_VERIFY_WITH_TIMEOUT(!c.running() && !c.busy(), 300000);
-    // One curve, on the level whose estimated error is within the tolerance; each coarser
-    // level's run was replaced by the finer one.
-    QCOMPARE(int(c.curves().size()), 1);
-    const NamedCurve& run = c.curves().back();
+    // One simulated curve, on the level whose estimated error is within the tolerance; each
+    // coarser level's run was replaced by the finer one.
+    QCOMPARE(int(c.curves().size()), 2);
+    QVERIFY(c.curves()[1].measured);
+    QCOMPARE(int(firstCurve.size()), 1);
+    const NamedCurve& run = c.curves()[0];
+    QVERIFY(run.meshLevel > tp::MeshSettings{}.level);  // so it was replaced at least once
     QVERIFY(run.meshLevel >= tp::MeshSettings{}.level);
     QVERIFY2(run.meshError >= 0 && run.meshError <= p.meshTolerance,
              qPrintable(QString("error %1 at level %2").arg(run.meshError).arg(run.meshLevel)));
