@@ -75,7 +75,8 @@ bool GlRenderer::initialize(QString* error) {
   // Position-only arrays: outlines, clamped vertices, the probe's stem.
   for (auto [vao, vbo] : {std::pair{&lineVao_, &lineVbo_}, std::pair{&meshVao_, &meshVbo_},
                           std::pair{&pointVao_, &pointVbo_}, std::pair{&stemVao_, &stemVbo_},
-                          std::pair{&glyphVao_, &glyphVbo_}}) {
+                          std::pair{&glyphVao_, &glyphVbo_},
+                          std::pair{&contactVao_, &contactVbo_}}) {
     vao->create();
     vao->bind();
     vbo->create();
@@ -105,14 +106,17 @@ bool GlRenderer::initialize(QString* error) {
 
 void GlRenderer::release() {
   if (!initialized_) return;
-  for (auto* b : {&wallVbo_, &lineVbo_, &meshVbo_, &pointVbo_, &sphereVbo_, &stemVbo_, &glyphVbo_})
+  for (auto* b : {&wallVbo_, &lineVbo_, &meshVbo_, &pointVbo_, &sphereVbo_, &stemVbo_,
+                  &contactVbo_, &glyphVbo_})
     b->destroy();
-  for (auto* v : {&wallVao_, &lineVao_, &meshVao_, &pointVao_, &sphereVao_, &stemVao_, &glyphVao_})
+  for (auto* v : {&wallVao_, &lineVao_, &meshVao_, &pointVao_, &sphereVao_, &stemVao_,
+                  &contactVao_, &glyphVao_})
     v->destroy();
   walls_.reset();
   lines_.reset();
   wallVertices_ = lineVertices_ = meshVertices_ = pointVertices_ = outerWallVertices_ =
-      outerLineVertices_ = outerMeshVertices_ = glyphVertices_ = outerGlyphVertices_ = 0;
+      outerLineVertices_ = outerMeshVertices_ = glyphVertices_ = outerGlyphVertices_ =
+          contactVertices_ = 0;
   initialized_ = false;
 }
 
@@ -131,6 +135,8 @@ void GlRenderer::upload(const SnapshotBuffers& b) {
   put(glyphVbo_, b.glyphVertices());
   glyphVertices_ = b.glyphVertexCount();
   outerGlyphVertices_ = b.outerGlyphVertexCount();
+  put(contactVbo_, b.contactVertices());
+  contactVertices_ = b.contactVertexCount();
   put(pointVbo_, b.clampedPoints());
   wallVertices_ = b.triangleVertexCount();
   lineVertices_ = b.lineVertexCount();
@@ -253,13 +259,28 @@ void GlRenderer::render(const Frame& f, const QSize& pixels) {
     glDepthFunc(GL_GREATER);
     sphere(f.probeCenter, QVector4D(0.92f, 0.94f, 1.0f, 0.5f));
     glDepthFunc(GL_LEQUAL);
-    glDepthMask(GL_TRUE);
+    // The probe itself writes no depth either, so that the contact patch drawn next shows
+    // through it (the walls' depth still hides the patch where they are in front of it).
     sphere(f.probeCenter, QVector4D(0.78f, 0.8f, 0.86f, 0.7f));
     if (f.targetCenter && (*f.targetCenter - f.probeCenter).norm() > 1e-3f * f.probeRadius)
       sphere(*f.targetCenter, QVector4D(0.95f, 0.7f, 0.2f, 0.35f));
+    glDepthMask(GL_TRUE);
     sphereVao_.release();
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
+    walls_->release();
+    // The contact patch: the outline of the triangles the probe presses, over the probe.
+    if (contactVertices_ > 0) {
+      lines_->bind();
+      lines_->setUniformValue("clipEnabled", false);
+      lines_->setUniformValue("color", QVector4D(kContactColour[0], kContactColour[1],
+                                                 kContactColour[2], 1.0f));
+      contactVao_.bind();
+      glDrawArrays(GL_LINES, 0, contactVertices_);
+      contactVao_.release();
+      lines_->release();
+    }
+    return;
   }
   walls_->release();
 }

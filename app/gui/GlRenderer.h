@@ -21,6 +21,9 @@ namespace tp::gui {
 
 class GlRenderer : protected QOpenGLExtraFunctions {
  public:
+  /// The contact patch's outline colour (RGB): magenta, apart from every colour map's colours.
+  static constexpr float kContactColour[3] = {0.95f, 0.1f, 0.8f};
+
   struct Frame {
     Eigen::Matrix4f viewProjection = Eigen::Matrix4f::Identity();
     Eigen::Vector3f eye = Eigen::Vector3f::Zero();  // µm
@@ -55,9 +58,11 @@ class GlRenderer : protected QOpenGLExtraFunctions {
  private:
   bool initialized_ = false;
   std::unique_ptr<QOpenGLShaderProgram> walls_, lines_;
-  QOpenGLVertexArrayObject wallVao_, lineVao_, meshVao_, pointVao_, sphereVao_, stemVao_, glyphVao_;
-  QOpenGLBuffer wallVbo_, lineVbo_, meshVbo_, pointVbo_, sphereVbo_, stemVbo_, glyphVbo_;
-  int glyphVertices_ = 0, outerGlyphVertices_ = 0;
+  QOpenGLVertexArrayObject wallVao_, lineVao_, meshVao_, pointVao_, sphereVao_, stemVao_, glyphVao_,
+      contactVao_;
+  QOpenGLBuffer wallVbo_, lineVbo_, meshVbo_, pointVbo_, sphereVbo_, stemVbo_, glyphVbo_,
+      contactVbo_;
+  int glyphVertices_ = 0, outerGlyphVertices_ = 0, contactVertices_ = 0;
   int wallVertices_ = 0, lineVertices_ = 0, meshVertices_ = 0, pointVertices_ = 0,
       sphereVertices_ = 0;
   // The leading parts seen without a cut.

@@ -642,6 +642,7 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
     snap.contactCenter = pl.contactCenter;
     snap.probeRadius = ind.settings().probeRadius;
     snap.depth = ind.depth();
+    snap.contactTriangles = s.site->model->touchedTriangles(x);
   }
   snap.status = !prepared ? "at rest (not under pressure)" : "turgid, probe touching";
   snap.meshStatus = s.meshStatus;

@@ -95,6 +95,8 @@ struct Snapshot {
   double probeRadius = 1;                                   // µm
   double depth = 0;                                         // µm, travel from first contact
   double force = 0;                                         // µN
+  // The contact patch: the outer triangles the probe presses (Model::touchedTriangles), ascending.
+  std::vector<int> contactTriangles;
 
   SimulationParams params;          // what the state was computed with
   int preparation = 0;              // counts preparations: points of one belong together

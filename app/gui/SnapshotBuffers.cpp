@@ -18,6 +18,7 @@ void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
   lines_.clear();
   mesh_.clear();
   glyphs_.clear();
+  contact_.clear();
   outerGlyphVertices_ = 0;
   outerTriangleVertices_ = outerLineVertices_ = outerMeshVertices_ = 0;
   points_.clear();
@@ -106,6 +107,21 @@ void SnapshotBuffers::build(const Snapshot& s, const std::vector<float>& values,
     if (3 * static_cast<int>(order.size()) == outerTriangleVertices_)
       outerGlyphVertices_ = glyphVertexCount();  // every triangle is outer
   }
+
+  // The contact patch's boundary: each edge of a pressed triangle, once per pressed triangle
+  // using it; those used once bound the patch.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> patchEdges;
+  for (int t : s.contactTriangles) {
+    if (t < 0 || t >= T) continue;
+    for (int k = 0; k < 3; ++k)
+      ++patchEdges[std::minmax(g.triangles[3 * t + k], g.triangles[3 * t + (k + 1) % 3])];
+  }
+  for (const auto& [edge, uses] : patchEdges)
+    if (uses == 1)
+      for (std::uint32_t v : {edge.first, edge.second}) {
+        const Eigen::Vector3f p = vertex(v);
+        contact_.insert(contact_.end(), {p.x(), p.y(), p.z()});
+      }
 
   lines_.reserve(g.outlineEdges.size() * 3);
   outerLineVertices_ = 2 * g.outerOutlineEdges;

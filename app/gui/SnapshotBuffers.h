@@ -44,6 +44,10 @@ class SnapshotBuffers {
   const std::vector<float>& glyphVertices() const { return glyphs_; }
   int glyphVertexCount() const { return static_cast<int>(glyphs_.size()) / kLineStride; }
   int outerGlyphVertexCount() const { return outerGlyphVertices_; }
+  /// The contact patch's outline: the edges of the triangles the probe presses that are not
+  /// shared by two of them (Snapshot::contactTriangles), as segments.
+  const std::vector<float>& contactVertices() const { return contact_; }
+  int contactVertexCount() const { return static_cast<int>(contact_.size()) / kLineStride; }
   int meshVertexCount() const { return static_cast<int>(mesh_.size()) / kLineStride; }
   int outerMeshVertexCount() const { return outerMeshVertices_; }
   const std::vector<float>& clampedPoints() const { return points_; }
@@ -52,7 +56,7 @@ class SnapshotBuffers {
   const Eigen::AlignedBox3d& bounds() const { return bounds_; }
 
  private:
-  std::vector<float> triangles_, lines_, mesh_, points_, glyphs_;
+  std::vector<float> triangles_, lines_, mesh_, points_, glyphs_, contact_;
   int outerGlyphVertices_ = 0;
   int outerTriangleVertices_ = 0, outerLineVertices_ = 0, outerMeshVertices_ = 0;
   Eigen::AlignedBox3d bounds_;

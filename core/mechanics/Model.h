@@ -92,6 +92,9 @@ class Model {
   /// The smallest distance (µm) from the probe's centre to an outer triangle at positions x
   /// (infinity without a probe).
   double probeDistance(const Points& x) const { return contact_->probeDistance(x); }
+  /// The contact patch at positions x: the outer triangles the probe presses (closer to its
+  /// centre than its radius, so the contact energy acts on them), ascending; empty without a probe.
+  std::vector<int> touchedTriangles(const Points& x) const { return contact_->touched(x); }
   /// The largest α in [0, 1] for which moving the vertices by α·dx and the probe's centre by
   /// α·dp keeps the clearance all along the way, by conservative advancement: the distance from a
   /// point to a triangle shrinks at most as fast as the largest relative speed of its vertices

@@ -156,3 +156,42 @@ TEST(ContactKept, EveryVertexClampedSolvesToNothingWithoutTouchingNullMemory) {
   EXPECT_EQ(rep.iterations, 0);
   EXPECT_EQ((x - cc->rest).norm(), 0.0);
 }
+
+TEST(ContactPatch, TheTouchedTrianglesAreThoseTheSpheresDiscOnTheSheetMeets) {
+  // A sphere of radius 2 whose centre is 1.8 µm above the sheet z = 0 cuts it in a disc of radius
+  // ρ = √(2² − 1.8²) ≈ 0.87 µm: the patch is every triangle that disc meets, found here in the
+  // plane (the disc's centre inside the triangle, or an edge closer to it than ρ).
+  auto cc = std::make_shared<CellComplex>(flatSheet(10, 10, 1.0));
+  Model m(cc, Material{});
+  const Eigen::Vector2d c(5.3, 4.6);
+  const double rho = std::sqrt(4.0 - 1.8 * 1.8);
+  m.setProbe({Vec3(c.x(), c.y(), 1.8), 2.0});
+  const Points& x = cc->rest;
+  auto segmentDistance = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const double s = std::clamp((c - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return (a + s * (b - a) - c).norm();
+  };
+  std::vector<int> expected;
+  for (int t = 0; t < cc->triangleCount(); ++t) {
+    Eigen::Vector2d p[3];
+    for (int k = 0; k < 3; ++k) p[k] = x.col(cc->triangles[t][k]).head<2>();
+    double sign[3];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d e = p[(k + 1) % 3] - p[k], f = c - p[k];
+      sign[k] = e.x() * f.y() - e.y() * f.x();
+    }
+    const bool inside = (sign[0] >= 0 && sign[1] >= 0 && sign[2] >= 0) ||
+                        (sign[0] <= 0 && sign[1] <= 0 && sign[2] <= 0);
+    double d = inside ? 0.0 : 1e9;
+    for (int k = 0; k < 3; ++k) d = std::min(d, segmentDistance(p[k], p[(k + 1) % 3]));
+    if (d < rho) expected.push_back(t);
+  }
+  // At least the triangles around the centre and a ring beyond (1 µm spacing, ρ ≈ 0.87 µm).
+  ASSERT_GE(expected.size(), 6u);
+  EXPECT_EQ(m.touchedTriangles(x), expected);
+  // Out of reach (the centre 2.01 µm above), or no probe: no patch.
+  m.setProbe({Vec3(c.x(), c.y(), 2.01), 2.0});
+  EXPECT_TRUE(m.touchedTriangles(x).empty());
+  m.clearProbe();
+  EXPECT_TRUE(m.touchedTriangles(x).empty());
+}

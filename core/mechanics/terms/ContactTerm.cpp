@@ -81,6 +81,16 @@ double ContactTerm::energy(const Points& x, double& magnitude) const {
   return e;
 }
 
+std::vector<int> ContactTerm::touched(const Points& x) const {
+  std::vector<int> out;
+  forNearTriangles(x, [&](int t, const Vec3& a, const Vec3& b, const Vec3& c) {
+    // φ(g) > 0 exactly when the penetration g = r − d is positive (mechanics/Contact.h).
+    if (sphereTriangleEnergy(law_, probe_->center, probe_->radius, a, b, c, nullptr, nullptr) > 0)
+      out.push_back(t);
+  });
+  return out;
+}
+
 double ContactTerm::probeDistance(const Points& x) const {
   if (!probe_) return std::numeric_limits<double>::infinity();
   double d2 = std::numeric_limits<double>::infinity();

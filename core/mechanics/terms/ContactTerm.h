@@ -36,6 +36,8 @@ class ContactTerm final : public EnergyTerm {
   double clearance() const { return probe_ ? 0.5 * probe_->radius : 0.0; }
   double probeDistance(const Points& x) const;
   double stepBound(const Points& x, const Points& dx, const Vec3& dp) const;
+  /// See Model::touchedTriangles.
+  std::vector<int> touched(const Points& x) const;
 
  private:
   template <class Fn>

@@ -198,6 +198,49 @@ class BuffersTest : public QObject {
     QCOMPARE(b.glyphVertexCount(), 0);
   }
 
+  void theContactPatchIsOutlinedByItsBoundaryEdges() {
+    // A cube (each face two triangles): the patch of the top face's two triangles is outlined by
+    // the square's four sides, never its diagonal; a single triangle by its three sides; the
+    // top and a side face together by the six sides of the two squares but the shared one.
+    const tp::CellComplex cc = tp::boxTissue(1, 1, 1, 5.0);
+    Snapshot s = boxSnapshot(cc);
+    auto onFace = [&](int t, int axis, double value) {
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(cc.rest(axis, cc.triangles[t][k]) - value) > 1e-9) return false;
+      return true;
+    };
+    std::vector<int> top, side;
+    for (int t = 0; t < cc.triangleCount(); ++t) {
+      if (onFace(t, 2, 5.0)) top.push_back(t);
+      if (onFace(t, 0, 0.0)) side.push_back(t);
+    }
+    QCOMPARE(int(top.size()), 2);
+    QCOMPARE(int(side.size()), 2);
+    SnapshotBuffers b;
+    auto sides = [&](const std::vector<int>& patch) {
+      s.contactTriangles = patch;
+      b.build(s, Field::VonMises, ColorMap{});
+      std::vector<double> lengths;
+      const auto& v = b.contactVertices();
+      for (int i = 0; i + 5 < int(v.size()); i += 6)
+        lengths.push_back((Eigen::Vector3f(v[i], v[i + 1], v[i + 2]) -
+                           Eigen::Vector3f(v[i + 3], v[i + 4], v[i + 5]))
+                              .norm());
+      return lengths;
+    };
+    const auto square = sides(top);
+    QCOMPARE(int(square.size()), 4);
+    for (double l : square) QVERIFY(std::abs(l - 5.0) < 1e-5);
+    QCOMPARE(int(sides({top[0]}).size()), 3);
+    std::vector<int> both = top;
+    both.insert(both.end(), side.begin(), side.end());
+    const auto two = sides(both);
+    QCOMPARE(int(two.size()), 6);
+    for (double l : two) QVERIFY(std::abs(l - 5.0) < 1e-5);
+    QCOMPARE(int(sides({}).size()), 0);
+    QCOMPARE(b.contactVertexCount(), 0);
+  }
+
   void anotherFieldAnotherColour() {
     const tp::CellComplex cc = tp::boxTissue(1, 1, 1, 5.0);
     Snapshot s = boxSnapshot(cc);

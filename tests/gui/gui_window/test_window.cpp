@@ -240,6 +240,36 @@ class WindowTest : public QObject {
     qInfo("drag: depth %.3f µm, force %.4g µN, %.1f %% of the view's pixels changed", s.depth,
           s.force, 100 * changed);
     QVERIFY(changed > 0.002);
+    // The contact patch: outer triangles, each closer to the probe's centre than its radius,
+    // outlined in the patch's colour on screen.
+    QVERIFY(!s.contactTriangles.empty());
+    const auto& g = *s.geometry;
+    for (int t : s.contactTriangles) {
+      QVERIFY(g.outer[t]);
+      double nearest = 1e9;  // a vertex of a pressed triangle lies within a triangle's size
+      for (int k = 0; k < 3; ++k) {
+        const int v = int(g.triangles[3 * t + k]);
+        nearest = std::min(nearest, (Eigen::Vector3d(s.positions[3 * v], s.positions[3 * v + 1],
+                                                     s.positions[3 * v + 2]) -
+                                     s.probeCenter())
+                                        .norm());
+      }
+      QVERIFY2(nearest < s.probeRadius + 2.0, qPrintable(QString::number(nearest)));
+    }
+    // Seen as Z shows the probe (40° off its axis; from afar the patch is edge-on at the top).
+    view_->setFocus();
+    QTest::keyClick(view_, Qt::Key_Z);
+    const QImage close = view_->grabFramebuffer();
+    QTest::keyClick(view_, Qt::Key_R);  // the whole tissue again, as it was
+    int patchPixels = 0;
+    for (int y = 0; y < close.height(); ++y)
+      for (int x = 0; x < close.width(); ++x) {
+        const QColor p = close.pixelColor(x, y);
+        patchPixels += p.red() > 200 && p.green() < 90 && p.blue() > 150;
+      }
+    qInfo("contact patch: %d triangles, %d pixels drawn in its colour",
+          int(s.contactTriangles.size()), patchPixels);
+    QVERIFY(patchPixels >= 10);
   }
 
   void screenshotOfTheWindow() {
