@@ -7,11 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <QFileInfo>
+#include <QLocale>
+#include <QPushButton>
+#include <QTimer>
 #include <QMessageBox>
 #include <QSaveFile>
 #include <QSettings>
 
 
+#include "Autosave.h"
 #include "ContactPointDialog.h"
 #include "Curves.h"
 #include "PlotPanel.h"
@@ -57,6 +61,58 @@ FileActions::FileActions(QWidget* window, SimulationController* controller, Tiss
       plot_(plot),
       display_(display),
       map_(map) {}
+
+FileActions::~FileActions() = default;
+
+void FileActions::startAutosave() {
+  if (autosave_) return;
+  autosave_ = std::make_unique<Autosave>();
+  auto* timer = new QTimer(this);
+  timer->setObjectName("autosaveTimer");
+  connect(timer, &QTimer::timeout, this, &FileActions::autosaveNow);
+  timer->start(60 * 1000);
+}
+
+void FileActions::autosaveNow() {
+  if (!autosave_) return;
+  const QString path = autosave_->path();
+  if (!controller_->hasUnsavedCurves()) {
+    autosave_->remove(path);  // saved, exported or cleared: nothing to recover
+    return;
+  }
+  QString error;
+  if (!writeSessionCopy(path, &error))  // the last good autosave stays
+    emit statusMessage(tr("Autosave failed: %1").arg(error));
+}
+
+void FileActions::offerRecovery() {
+  if (!autosave_) return;
+  const QStringList orphans = autosave_->orphans();
+  if (orphans.isEmpty()) return;
+  const QString file = orphans.front();
+  const QString when = QLocale().toString(Autosave::writtenAt(file), QLocale::ShortFormat);
+  QMessageBox box(QMessageBox::Question, tr("Recover the last session?"),
+                  tr("TissueProbe did not close normally. Its curves were autosaved at %1.\n\n"
+                     "Open them now? (Discard deletes the autosave; Later keeps it for the next "
+                     "start.)")
+                      .arg(when),
+                  QMessageBox::Open | QMessageBox::Discard | QMessageBox::Ignore, window_);
+  box.setObjectName("recoverBox");
+  box.button(QMessageBox::Ignore)->setText(tr("Later"));
+  box.setDefaultButton(QMessageBox::Open);
+  const int answer = box.exec();
+  if (answer == QMessageBox::Ignore) return;
+  if (answer == QMessageBox::Open) {
+    QString error;
+    if (!openSession(file, &error)) {
+      showError(window_, tr("Cannot recover the session"), error);
+      return;  // kept: nothing is lost
+    }
+    controller_->markCurvesUnsaved();  // they are in no file of the user's yet
+    emit statusMessage(tr("Recovered the session autosaved at %1; save it to keep it").arg(when));
+  }
+  autosave_->remove(file);
+}
 
 void FileActions::open(const QString& path) {
   if (QFileInfo(path).suffix().compare("json", Qt::CaseInsensitive) == 0) {

@@ -9,12 +9,14 @@
 #include <QSize>
 #include <QString>
 
+#include <memory>
 #include <optional>
 
 class QWidget;
 
 namespace tp::gui {
 
+class Autosave;
 class DisplayPanel;
 class MapRunner;
 class PlotPanel;
@@ -30,6 +32,7 @@ class FileActions : public QObject {
  public:
   FileActions(QWidget* window, SimulationController* controller, TissueView* view, PlotPanel* plot,
               DisplayPanel* display, MapRunner* map);
+  ~FileActions() override;
 
   /// A session (*.json) or a tissue (anything else).
   void open(const QString& path);
@@ -59,6 +62,14 @@ class FileActions : public QObject {
   bool exportMapTable(const QString& path, QString* error);
   bool exportMapSurface(const QString& path, QString* error);
 
+  /// Autosave: from now on the session is written aside every minute while curves are unsaved.
+  void startAutosave();
+  Autosave* autosave() const { return autosave_.get(); }
+  /// Writes the autosave now if there are unsaved curves (else removes it: nothing to lose).
+  void autosaveNow();
+  /// Offers to recover the newest session a crashed window left (asked once at start).
+  void offerRecovery();
+
  public slots:
   void openTissueDialog();
   void openSessionDialog();
@@ -87,6 +98,7 @@ class FileActions : public QObject {
   PlotPanel* plot_;
   DisplayPanel* display_;
   MapRunner* map_;
+  std::unique_ptr<Autosave> autosave_;
 };
 
 }  // namespace tp::gui

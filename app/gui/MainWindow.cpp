@@ -25,8 +25,6 @@
 #include <QSettings>
 #include <QStatusBar>
 #include <QTextBrowser>
-#include <QLocale>
-#include <QTimer>
 #include <QToolBar>
 #include <QVBoxLayout>
 #include <QFile>
@@ -76,54 +74,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   restoreGeometry(settings.value("window/geometry").toByteArray());
   restoreState(settings.value("window/state").toByteArray());
   // Curves not yet saved are written aside every minute, to be recovered after a crash.
-  autosave_ = std::make_unique<Autosave>();
-  auto* timer = new QTimer(this);
-  timer->setObjectName("autosaveTimer");
-  connect(timer, &QTimer::timeout, this, &MainWindow::autosaveNow);
-  timer->start(60 * 1000);
+  files_->startAutosave();
 }
 
 MainWindow::~MainWindow() = default;
-
-void MainWindow::autosaveNow() {
-  const QString path = autosave_->path();
-  if (!controller_->hasUnsavedCurves()) {
-    autosave_->remove(path);  // saved, exported or cleared: nothing to recover
-    return;
-  }
-  QString error;
-  if (!files_->writeSessionCopy(path, &error))  // the last good autosave stays
-    statusBar()->showMessage(tr("Autosave failed: %1").arg(error), 8000);
-}
-
-void MainWindow::offerRecovery() {
-  const QStringList orphans = autosave_->orphans();
-  if (orphans.isEmpty()) return;
-  const QString file = orphans.front();
-  QMessageBox box(QMessageBox::Question, tr("Recover the last session?"),
-                  tr("TissueProbe did not close normally. Its curves were autosaved at %1.\n\n"
-                     "Open them now? (Discard deletes the autosave; Later keeps it for the next "
-                     "start.)")
-                      .arg(QLocale().toString(Autosave::writtenAt(file), QLocale::ShortFormat)),
-                  QMessageBox::Open | QMessageBox::Discard | QMessageBox::Ignore, this);
-  box.setObjectName("recoverBox");
-  box.button(QMessageBox::Ignore)->setText(tr("Later"));
-  box.setDefaultButton(QMessageBox::Open);
-  const int answer = box.exec();
-  if (answer == QMessageBox::Ignore) return;
-  if (answer == QMessageBox::Open) {
-    QString error;
-    if (!files_->openSession(file, &error)) {
-      showError(this, tr("Cannot recover the session"), error);
-      return;  // kept: nothing is lost
-    }
-    controller_->markCurvesUnsaved();  // they are in no file of the user's yet
-    statusBar()->showMessage(tr("Recovered the session autosaved at %1; save it to keep it")
-                                 .arg(QLocale().toString(Autosave::writtenAt(file),
-                                                         QLocale::ShortFormat)));
-  }
-  autosave_->remove(file);
-}
 
 void MainWindow::createDocks() {
   // The parameters take the full height on the left; the plot spans the rest of the width.
@@ -709,7 +663,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
     }
   }
   setPresentation(false);  // the layout remembered is the working one, not the lecture's
-  autosave_->finish();     // a clean exit: nothing to recover
+  files_->autosave()->finish();  // a clean exit: nothing to recover
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());

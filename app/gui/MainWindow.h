@@ -17,7 +17,6 @@ class QMenu;
 
 namespace tp::gui {
 
-class Autosave;
 class BusyIndicator;
 class DisplayPanel;
 class FileActions;
@@ -44,13 +43,6 @@ class MainWindow : public QMainWindow {
   FileActions* fileActions() const { return files_; }
   MapRunner* mapRunner() const { return mapRunner_; }
   MapPanel* mapPanel() const { return mapPanel_; }
-  Autosave* autosave() const { return autosave_.get(); }
-
-  /// Writes the autosave now if there are unsaved curves (else removes it: nothing to lose);
-  /// a timer calls it every minute.
-  void autosaveNow();
-  /// Offers to recover the newest session a crashed window left (asked once at start).
-  void offerRecovery();
   /// Selects the newest curve of site `number` (as the legend names it), which highlights its
   /// graph and its disc; a click on a site's disc does this. False when it has no curve.
   bool selectSite(int number);
@@ -94,7 +86,6 @@ class MainWindow : public QMainWindow {
   bool framePending_ = false;     // a site was picked: frame it once it is prepared
   QMenu* recentMenu_ = nullptr;
   QMenu* viewMenu_ = nullptr;
-  std::unique_ptr<Autosave> autosave_;
   BusyIndicator* busy_;
   QLabel *hoverLabel_, *probeLabel_, *meshLabel_;
 };

@@ -53,6 +53,6 @@ int main(int argc, char** argv) {
     files->openTissue(QString());  // the shipped default tissue
   }
   // Curves a crashed window left in its autosave: asked once the window is up.
-  QTimer::singleShot(0, &window, [&window] { window.offerRecovery(); });
+  QTimer::singleShot(0, &window, [&window] { window.fileActions()->offerRecovery(); });
   return app.exec();
 }

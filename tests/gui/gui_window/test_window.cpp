@@ -1179,8 +1179,8 @@ class WindowTest : public QObject {
     // Unsaved curves are written aside (a whole session, readable); saved ones are not.
     QVERIFY(!c_->curves().empty());
     c_->markCurvesUnsaved();
-    w_->autosaveNow();
-    Autosave* autosave = w_->autosave();
+    w_->fileActions()->autosaveNow();
+    Autosave* autosave = w_->fileActions()->autosave();
     const QString own = autosave->path();
     QVERIFY2(QFile::exists(own), qPrintable(own));
     QVERIFY2(own.startsWith(QDir::tempPath()), qPrintable(own));  // never the user's folder
@@ -1201,7 +1201,7 @@ class WindowTest : public QObject {
     QString text;
     const int preparation = c_->latest().preparation;
     answerNextMessageBox(QMessageBox::Open, &text);
-    w_->offerRecovery();
+    w_->fileActions()->offerRecovery();
     QVERIFY2(text.contains("did not close normally"), qPrintable(text));
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);  // its site again
     waitIdle();
@@ -1212,19 +1212,19 @@ class WindowTest : public QObject {
     // Later keeps an orphan for the next start; Discard deletes it.
     QVERIFY(QFile::copy(own, crashed));
     answerNextMessageBox(QMessageBox::Ignore, &text);
-    w_->offerRecovery();
+    w_->fileActions()->offerRecovery();
     QVERIFY(QFile::exists(crashed));
     answerNextMessageBox(QMessageBox::Discard, &text);
-    w_->offerRecovery();
+    w_->fileActions()->offerRecovery();
     QVERIFY(!QFile::exists(crashed));
     QVERIFY(autosave->orphans().isEmpty());
 
     // Once saved there is nothing to recover: the autosave goes at the next tick.
     c_->markCurvesSaved();
-    w_->autosaveNow();
+    w_->fileActions()->autosaveNow();
     QVERIFY(!QFile::exists(own));
     c_->markCurvesUnsaved();
-    w_->autosaveNow();
+    w_->fileActions()->autosaveNow();
     QVERIFY(QFile::exists(own));  // for layoutIsRemembered: a clean exit removes it
   }
 
@@ -1258,9 +1258,9 @@ class WindowTest : public QObject {
   }
 
   void layoutIsRemembered() {
-    const QString autosaved = w_->autosave()->path();
+    const QString autosaved = w_->fileActions()->autosave()->path();
     c_->markCurvesUnsaved();
-    w_->autosaveNow();
+    w_->fileActions()->autosaveNow();
     QVERIFY(QFile::exists(autosaved));
     c_->markCurvesSaved();  // no question at quit (that is quittingWithUnsavedCurvesAsks)
     w_->close();
