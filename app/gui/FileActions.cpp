@@ -286,10 +286,7 @@ bool FileActions::exportFigure(const QString& path, const QSize& size, double dp
       plot_->drawInto(&painter, QSize(int(std::lround(right / scale)), int(std::lround(h / scale))),
                       where);
     }
-    const int dpm = int(std::lround(dpi / 0.0254));
-    figure.setDotsPerMeterX(dpm);
-    figure.setDotsPerMeterY(dpm);
-    ok = figure.save(&file, "PNG");
+    ok = savePng(figure, &file, dpi);
   }
   if (!ok || !file.commit()) {
     if (error) *error = tr("%1: could not write the figure (%2)").arg(path, file.errorString());

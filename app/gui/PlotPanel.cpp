@@ -18,6 +18,13 @@
 
 namespace tp::gui {
 
+bool savePng(QImage& image, QIODevice* device, double dpi) {
+  const int dpm = int(std::lround(dpi / 0.0254));  // 1 inch = 0.0254 m
+  image.setDotsPerMeterX(dpm);
+  image.setDotsPerMeterY(dpm);
+  return image.save(device, "PNG");
+}
+
 namespace {
 
 // Distinguishable colours (Tableau 10), in the order curves are added.
@@ -441,10 +448,7 @@ bool PlotPanel::exportImage(const QString& path, const ExportOptions& options, Q
       rememberExportLayout();
       if (image.size() != QSize(w, h))
         image = image.scaled(w, h, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
-      const int dpm = int(std::lround(options.dpi / 0.0254));
-      image.setDotsPerMeterX(dpm);
-      image.setDotsPerMeterY(dpm);
-      ok = image.save(&file, "PNG");
+      ok = savePng(image, &file, options.dpi);
     }
   }
   if (!ok || !file.commit()) {

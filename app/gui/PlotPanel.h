@@ -16,9 +16,15 @@ class QCheckBox;
 class QCustomPlot;
 class QCPAbstractPlottable;
 class QCPAxisRect;
+class QIODevice;
+class QImage;
 class QListWidget;
 
 namespace tp::gui {
+
+/// Writes `image` as PNG with its resolution recorded (dots per metre from `dpi`), so that slide
+/// and page tools size it as drawn. False when writing fails.
+bool savePng(QImage& image, QIODevice* device, double dpi);
 
 class PlotPanel : public QWidget {
   Q_OBJECT
