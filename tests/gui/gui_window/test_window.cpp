@@ -68,13 +68,20 @@ int distinctColours(const QImage& image) {
   return colours.size();
 }
 
-double changedFraction(const QImage& a, const QImage& b) {
+// The fraction of pixels whose colour differs by more than `threshold` (sum of the three
+// channels' differences, 0–765): 0 counts any difference.
+double changedFraction(const QImage& a, const QImage& b, int threshold = 0) {
   if (a.size() != b.size()) return 1.0;
   const QImage x = a.convertToFormat(QImage::Format_RGB32),
                y = b.convertToFormat(QImage::Format_RGB32);
   long changed = 0;
   for (int r = 0; r < x.height(); ++r)
-    for (int c = 0; c < x.width(); ++c) changed += x.pixel(c, r) != y.pixel(c, r);
+    for (int c = 0; c < x.width(); ++c) {
+      const QRgb p = x.pixel(c, r), q = y.pixel(c, r);
+      changed += std::abs(qRed(p) - qRed(q)) + std::abs(qGreen(p) - qGreen(q)) +
+                     std::abs(qBlue(p) - qBlue(q)) >
+                 threshold;
+    }
   return double(changed) / (double(x.width()) * x.height());
 }
 
@@ -350,6 +357,32 @@ class WindowTest : public QObject {
     QVERIFY(changedFraction(plain, view_->grabFramebuffer()) > 0.001);
     scale->setValue(1);
     QCOMPARE(view_->shownSnapshot().positions, view_->snapshot().positions);
+
+    // The proof: a 1 µm push drawn ×20 changes at least 5 % of the pixels in a box
+    // around the site (120 px square; the view is 400–500 px) against the turgid state at ×20,
+    // each clearly (by more than 60 of 765 summed over the channels: the stress colours shift a
+    // little everywhere near the probe, which is not the dimple).
+    scale->setValue(20);
+    c_->requestDepth(0.0);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.0 && !c_->busy(), 60000);
+    const Eigen::Vector3d at = view_->camera().project(c_->latest().site);
+    const QRect box(int(at.x()) - 60, int(at.y()) - 60, 120, 120);
+    QVERIFY(view_->rect().contains(box));
+    const QImage flat = view_->grabFramebuffer().copy(box);
+    c_->requestDepth(1.0);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 1.0 && !c_->busy(), 60000);
+    const double dimple = changedFraction(flat, view_->grabFramebuffer().copy(box), 60);
+    qInfo("1 µm ×20: %.1f %% of the box around the site changed", 100 * dimple);
+    QVERIFY(dimple >= 0.05);
+    // Drawn as it is (×1), the same push changes far less of the box (4.9 % against 20.3 %
+    // here): the probe and the walls move 1 µm, not 20.
+    scale->setValue(1);
+    const QImage pushed = view_->grabFramebuffer().copy(box);
+    c_->requestDepth(0.0);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.0 && !c_->busy(), 60000);
+    const double plainDimple = changedFraction(view_->grabFramebuffer().copy(box), pushed, 60);
+    qInfo("1 µm ×1: %.1f %% of the box changed", 100 * plainDimple);
+    QVERIFY(plainDimple < 0.5 * dimple);
     c_->requestDepth(0.0);
     QTRY_VERIFY_WITH_TIMEOUT(c_->latest().depth == 0.0 && !c_->busy(), 60000);
   }
