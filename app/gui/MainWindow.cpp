@@ -362,7 +362,6 @@ void MainWindow::wire() {
   connect(display_, &DisplayPanel::outlinesChanged, view_, &TissueView::setOutlinesVisible);
   connect(display_, &DisplayPanel::meshChanged, view_, &TissueView::setMeshVisible);
   connect(display_, &DisplayPanel::glyphsChanged, view_, &TissueView::setGlyphsVisible);
-  connect(display_, &DisplayPanel::glyphsChanged, c, &SimulationController::setPrincipalDirections);
   connect(view_, &TissueView::siteMarkerClicked, this, &MainWindow::selectSite);
   connect(display_, &DisplayPanel::sectionChanged, view_, &TissueView::setSection);
   connect(view_, &TissueView::rangeChanged, display_, &DisplayPanel::showRange);

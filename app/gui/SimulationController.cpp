@@ -121,10 +121,6 @@ void SimulationController::cancelRun() {
   if (running_ || fitting_) worker_->cancel();
 }
 
-void SimulationController::setPrincipalDirections(bool on) {
-  worker_->setPrincipalAxes(on);
-}
-
 bool SimulationController::fitMeasuredCurves(bool E, bool p, bool h, bool offset, QString* why) {
   auto refuse = [&](const QString& m) {
     if (why) *why = m;

@@ -42,8 +42,6 @@ class SimulationController : public QObject {
   void runCurve();
   void cancelRun();
   void exportVtu(const QString& path);
-  /// Whether snapshots carry the principal-stress directions (while they are drawn).
-  void setPrincipalDirections(bool on);
   void removeCurve(int index);
   /// A measured curve (imported from a file), drawn beside the simulated ones.
   void addMeasuredCurve(NamedCurve curve);

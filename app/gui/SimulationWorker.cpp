@@ -38,8 +38,6 @@ struct SimulationWorker::State {
   double liveEstimated = -1;  // the depth its error was last estimated at
   double dragStep = 0;        // largest depth change per drag equilibrium now (µm; 0: not set)
   std::string meshStatus;
-  double sentForce = 0;    // the force and status line of the last state sent (µN), for Resend
-  std::string sentStatus;
   mutable StressField turgidStress;  // at the turgid state of preparation turgidStressFor
   mutable int turgidStressFor = -1;
 
@@ -73,14 +71,14 @@ constexpr int kEstimateDelayMs = 800;     // a drag at rest this long gets its e
 
 // Per-triangle colour quantities of a state (experiment/Quantities.h).
 void fillFields(const Model* model, const CellComplex& cc, const Points& x, const Points* turgid,
-                const StressField* turgidStress, bool principalAxes, Snapshot& s) {
+                const StressField* turgidStress, Snapshot& s) {
   std::optional<StressField> st;
   if (model) st = computeStress(*model, x);
   const QuantityInputs in{st ? &*st : nullptr, turgidStress, &cc, &x, turgid};
   const auto values = triangleQuantities(in);
   for (int q = 0; q < kFieldCount; ++q) s.fields[q].assign(values[q].begin(), values[q].end());
   s.principalAxes.clear();
-  if (!st || !principalAxes) return;
+  if (!st) return;
   // The largest principal stress of each triangle's Cauchy tensor read in its plane (basis e₁
   // along an edge, e₂ = n × e₁): σ₁ = (s₁₁+s₂₂)/2 + √(((s₁₁−s₂₂)/2)² + s₁₂²), along the angle
   // θ = ½ atan2(2 s₁₂, s₁₁ − s₂₂) from e₁ (Mohr's circle).
@@ -155,26 +153,6 @@ void SimulationWorker::requestFit(const tp::FitSettings& settings,
                                   const std::vector<tp::FitCurve>& curves) {
   stop_ = false;  // as for a run: a Cancel right after the request counts
   enqueue(Fit{settings, curves});
-}
-
-void SimulationWorker::setPrincipalAxes(bool on) {
-  if (principalAxes_.exchange(on) == on || !on) return;
-  enqueue(Resend{});
-}
-
-void SimulationWorker::handle(const Resend&) {
-  // Not a new equilibrium: no curve point, no preparation (Snapshot::point stays empty).
-  if (!s_->prepared()) return;
-  Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
-  snap.force = s_->sentForce;
-  snap.status = s_->sentStatus;
-  send(snap);
-}
-
-void SimulationWorker::send(const Snapshot& snap) {
-  s_->sentForce = snap.force;
-  s_->sentStatus = snap.status;
-  emit snapshotReady(snap);
 }
 
 void SimulationWorker::stop() {
@@ -297,7 +275,7 @@ void SimulationWorker::handle(const Load& r) {
                            .arg(base->cellCount())
                            .arg(base->vertexCount())
                            .arg(base->triangleCount()));
-  send(snapshot(Snapshot::Phase::Rest));
+  emit snapshotReady(snapshot(Snapshot::Phase::Rest));
   SiteRequest site = r.site;
   if (site.kind != SiteRequest::Kind::Point) site.kind = SiteRequest::Kind::Top;
   prepare(r.params, site, site.kind == SiteRequest::Kind::Top);
@@ -371,7 +349,7 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
   st.precision(3);
   st << "turgid, probe touching (ready in " << s.site->seconds << " s)";
   snap.status = st.str();
-  send(snap);
+  emit snapshotReady(snap);
   return true;
 }
 
@@ -425,7 +403,7 @@ void SimulationWorker::handle(const Depth& r) {
   snap.point = pt;
   snap.force = pt.force;
   snap.status = describePoint(pt);
-  send(snap);
+  emit snapshotReady(snap);
   // When the drag rests (no other depth solved for kEstimateDelayMs), estimate the error of
   // its deepest point. An empty queue is not enough: the view sends the next depth only when
   // this equilibrium is back, so during a drag the queue is empty most of the time, and an
@@ -523,7 +501,7 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
           Snapshot start = snapshot(Snapshot::Phase::Equilibrium);
           start.point = CurvePoint{0.0, 0.0, 0, 0.0, true, false};
           start.fromRun = true;
-          send(start);
+          emit snapshotReady(start);
           first = false;
         }
         Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
@@ -531,7 +509,7 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
         snap.force = pt.force;
         snap.status = describePoint(pt);
         snap.fromRun = true;
-        if (pt.converged) send(snap);
+        if (pt.converged) emit snapshotReady(snap);
         emit runProgress(done, all);
         emit busy(tr("Running the curve (mesh level %1): point %2 of %3…")
                       .arg(s.site->level)
@@ -653,8 +631,7 @@ Snapshot SimulationWorker::snapshot(Snapshot::Phase phase) const {
     turgidStress = &s.turgidStress;
   }
   fillFields(prepared ? s.site->model.get() : nullptr, cc, x,
-             prepared ? &s.site->indentation->turgidState() : nullptr, turgidStress,
-             principalAxes_.load(), snap);
+             prepared ? &s.site->indentation->turgidState() : nullptr, turgidStress, snap);
   snap.cellVolumes = cellVolumes(cc, x);
   if (prepared) {
     const Indentation& ind = *s.site->indentation;

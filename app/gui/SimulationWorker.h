@@ -68,10 +68,6 @@ class SimulationWorker : public QObject {
   /// Fits the settings' E, p, h to measured curves on the loaded tissue (experiment/Fit.h);
   /// stopped by cancel() within one Newton iteration.
   void requestFit(const tp::FitSettings& settings, const std::vector<tp::FitCurve>& curves);
-  /// Whether snapshots carry the principal-stress directions (Snapshot::principalAxes): only
-  /// while they are drawn, since every snapshot of a drag would otherwise pay for them. Turned
-  /// on, the current state is sent again with them.
-  void setPrincipalAxes(bool on);
   /// Stops a running curve (within one Newton iteration).
   void cancel() {
     std::lock_guard lock(mutex_);
@@ -127,8 +123,7 @@ class SimulationWorker : public QObject {
     tp::FitSettings settings;
     std::vector<tp::FitCurve> curves;
   };
-  struct Resend {};  // the current state again (with what snapshots now carry)
-  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive, Fit, Resend>;
+  using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive, Fit>;
 
   void enqueue(Request r);
   void processNext();
@@ -139,12 +134,10 @@ class SimulationWorker : public QObject {
   void handle(const ExportVtu& r);
   void handle(const EstimateLive& r);
   void handle(const Fit& r);
-  void handle(const Resend& r);
   bool prepare(const SimulationParams& params, const SiteRequest& site, bool newSite,
                bool keepLevel = false);
   bool runSchedule(const Schedule& schedule, bool rerun);
   Snapshot snapshot(Snapshot::Phase phase) const;
-  void send(const Snapshot& snap);  // emits snapshotReady, remembering its force and status
 
   std::mutex mutex_;
   std::deque<Request> queue_;
@@ -152,7 +145,6 @@ class SimulationWorker : public QObject {
   int interruptibleBy_ = 0;        // what may stop the task in hand (bits of request kinds)
   std::atomic<bool> stop_{false};  // the task in hand stops at its next Newton iteration
   std::atomic<bool> stopping_{false};
-  std::atomic<bool> principalAxes_{false};
   bool interrupted_ = false;  // stop_ was set to interrupt the task in hand (guarded by mutex_)
 
   // Owned by the worker's thread only.
