@@ -540,6 +540,9 @@ class WindowTest : public QObject {
     list->clearSelection();
 
     // A click on a site's disc selects that site and picks no new site: site 1 has no curve.
+    // Seen from the top, site 1 (the top of the tissue) is in front.
+    view_->setFocus();
+    QTest::keyClick(view_, Qt::Key_7);
     view_->update();
     QTRY_VERIFY(view_->markerCentre(1).has_value());
     const QPoint disc = view_->markerCentre(1)->toPoint();
