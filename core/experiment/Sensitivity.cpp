@@ -61,19 +61,26 @@ ForceSensitivity forceSensitivity(Indentation& ind, const TurgidResponse* turgid
   const int n3 = static_cast<int>(x.size());
   if (!model.probe()) return s;
 
-  // At the indented state, with the probe's centre c held: the probe's coupling ∂²W/∂x∂c (an
-  // assembly), then one factorisation of the tangent for the right-hand sides −∂g/∂θ and
-  // −∂g/∂c_j = −∂²W/∂x∂c_j (the probe moved along each axis).
-  Evaluation ev;
-  model.evaluate(x, ev, EvalOptions{.hessian = true});
-  if (ev.probeCoupling.rows() != n3) return s;
-  const Eigen::VectorXd coupling = ev.probeCoupling * axis;  // ∂F/∂x, F = a·∂W/∂c
-  Eigen::MatrixXd loads(n3, 6);
-  loads.leftCols(3) = parameterLoads(model, x);
-  loads.rightCols(3) = -ev.probeCoupling;
+  // At the indented state, with the probe's centre c held: one factorisation of the tangent for
+  // the right-hand sides −∂g/∂θ and −∂g/∂c_j = −∂²W/∂x∂c_j (the probe moved along each axis),
+  // the probe's coupling ∂²W/∂x∂c taken from the assembly that builds the tangent.
+  Eigen::MatrixXd probeCoupling;
+  Vec3 probeGradient = Vec3::Zero();
+  Mat3 probeHessian = Mat3::Zero();
+  auto loadsAt = [&](const Evaluation& ev) -> Eigen::MatrixXd {
+    if (ev.probeCoupling.rows() != n3) return {};
+    probeCoupling = ev.probeCoupling;
+    probeGradient = ev.probeGradient;
+    probeHessian = ev.probeHessian;
+    Eigen::MatrixXd loads(n3, 6);
+    loads.leftCols(3) = parameterLoads(model, x);
+    loads.rightCols(3) = -ev.probeCoupling;
+    return loads;
+  };
   Eigen::MatrixXd u;
-  if (!ind.solver().tangentSolve(x, loads, u)) return s;
-  s.force = axis.dot(ev.probeGradient);
+  if (!ind.solver().tangentSolve(x, loadsAt, u)) return s;
+  const Eigen::VectorXd coupling = probeCoupling * axis;  // ∂F/∂x, F = a·∂W/∂c
+  s.force = axis.dot(probeGradient);
   // The contact law's stiffness is κ = 1e3 E h (mechanics/terms/ContactTerm.cpp): the contact
   // energy, and F with it, scale with E and h explicitly too.
   const Material& mat = model.material();
@@ -82,7 +89,7 @@ ForceSensitivity forceSensitivity(Indentation& ind, const TurgidResponse* turgid
   for (int k = 0; k < 3; ++k) held[k] = explicitPart[k] + coupling.dot(u.col(k));
   Vec3 dFdc;  // the total derivative of F with the probe's centre, the tissue in equilibrium
   for (int j = 0; j < 3; ++j)
-    dFdc[j] = axis.dot(ev.probeHessian.col(j)) + coupling.dot(u.col(3 + j));
+    dFdc[j] = axis.dot(probeHessian.col(j)) + coupling.dot(u.col(3 + j));
   s.dDepth = dFdc.dot(axis);
 
   // The depth counts from first contact with the turgid state, which θ moves too. The probe

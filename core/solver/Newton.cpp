@@ -104,11 +104,11 @@ bool StaticSolver::factorizeTangent(double& shift, double maxDiag, int& factoriz
   return false;
 }
 
-bool StaticSolver::tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
+bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
                                 Eigen::MatrixXd& displacements) {
   const DofMap& dofs = model_.dofs();
   const int n = dofs.freeCount();
-  if (loads.rows() != dofs.fullCount() || loads.cols() == 0 || n == 0) return false;
+  if (n == 0) return false;
   if (analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz()) {
     chol_.analyze(model_.pattern());
     analyzedFor_ = &model_.pattern();
@@ -122,6 +122,8 @@ bool StaticSolver::tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
   for (int j = 0; j < n; ++j)
     maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
   if (!(maxDiag > 0)) return false;
+  const Eigen::MatrixXd loads = loadsAt(ev_);  // before the factorisation may alter ev_'s Hessian
+  if (loads.rows() != dofs.fullCount() || loads.cols() == 0) return false;
   double shift = 0;  // the exact tangent: derivatives of an equilibrium (fit sensitivities)
   int factorizations = 0;
   std::string why;

@@ -22,7 +22,7 @@ class StaticSolver final : public EquilibriumSolver {
 
   SolveReport solve(Points& x, ForceControl* fc = nullptr) override;
   using EquilibriumSolver::tangentSolve;
-  bool tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
+  bool tangentSolve(const Points& x, const LoadsAt& loadsAt,
                     Eigen::MatrixXd& displacements) override;
   SolverOptions& options() override { return options_; }
   const SolverTotals& totals() const override { return totals_; }

@@ -5,6 +5,7 @@
 // Rayleigh damping and conjugate gradients run until rest, solver/ImplicitEuler.h).
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -86,7 +87,15 @@ class EquilibriumSolver {
   }
   /// The same for several loads (one per column) with one factorisation of K(x), unshifted (an
   /// equilibrium's tangent is positive definite; a diagonal shift is added only if it is not).
-  virtual bool tangentSolve(const Points& /*x*/, const Eigen::MatrixXd& /*loads*/,
+  virtual bool tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
+                            Eigen::MatrixXd& displacements) {
+    return tangentSolve(
+        x, [&](const Evaluation&) { return loads; }, displacements);
+  }
+  /// The loads computed from the model's evaluation at x (gradient, Hessian, the probe's
+  /// coupling), which the solver makes anyway to build K(x): one assembly, not two.
+  using LoadsAt = std::function<Eigen::MatrixXd(const Evaluation&)>;
+  virtual bool tangentSolve(const Points& /*x*/, const LoadsAt& /*loadsAt*/,
                             Eigen::MatrixXd& /*displacements*/) {
     return false;
   }
