@@ -48,7 +48,7 @@ struct FitResult {
   bool converged = false;
   std::string message;  // Ceres' summary line, or why it failed
   int iterations = 0;
-  int evaluations = 0;                  // simulations of every curve
+  int evaluations = 0;                  // simulations of every curve (a θ asked again is not)
   std::vector<FitValue> values;         // E, p, h, then one offset per curve
   std::vector<std::string> fittedKeys;  // the rows and columns of `correlation`
   Eigen::MatrixXd correlation;
