@@ -585,26 +585,10 @@ void MainWindow::showMapSite(const Eigen::Vector3d& restPoint) {
                                           : QString()));
 }
 
-namespace {
-
-// The site a curve belongs to: the nearest within 2 µm of its own point (a site's point moves a
-// little when it is prepared again with other parameters), or −1.
-int siteOf(const std::vector<Eigen::Vector3d>& sites, const NamedCurve& curve) {
-  int best = -1;
-  double bestDistance = 2.0;  // µm: farther, the curve is of a site not in the list
-  for (size_t i = 0; i < sites.size(); ++i) {
-    const double d = (sites[i] - curve.site).norm();
-    if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
-  }
-  return best;
-}
-
-}  // namespace
-
 bool MainWindow::selectSite(int number) {
   const auto& curves = controller_->curves();
   for (int k = static_cast<int>(curves.size()) - 1; k >= 0; --k)
-    if (!curves[k].measured && siteOf(controller_->sites(), curves[k]) == number - 1) {
+    if (controller_->siteOfCurve(k) == number - 1) {
       plot_->setSelectedCurve(k);  // the list, the graph and the disc follow
       statusBar()->showMessage(tr("Site %1: its newest curve is selected").arg(number), 4000);
       return true;
@@ -617,18 +601,17 @@ void MainWindow::updateSiteMarkers() {
   // A site takes the colour of its newest curve.
   const auto& sites = controller_->sites();
   const auto& curves = controller_->curves();
-  auto siteOf = [&](const NamedCurve& curve) { return tp::gui::siteOf(sites, curve); };
   std::vector<TissueView::SiteMarker> markers(sites.size());
   for (size_t i = 0; i < sites.size(); ++i) {
     markers[i].position = sites[i];
     markers[i].number = static_cast<int>(i) + 1;
   }
   for (size_t k = 0; k < curves.size(); ++k)
-    if (const int i = siteOf(curves[k]); i >= 0)
+    if (const int i = controller_->siteOfCurve(static_cast<int>(k)); i >= 0)
       markers[i].colour = PlotPanel::colourOf(curves[k], static_cast<int>(k));
   const int selected = plot_->selectedCurve();
   if (selected >= 0 && selected < static_cast<int>(curves.size()))
-    if (const int i = siteOf(curves[selected]); i >= 0) markers[i].highlighted = true;
+    if (const int i = controller_->siteOfCurve(selected); i >= 0) markers[i].highlighted = true;
   // The current site has the probe on it: no disc over the contact, unless it is selected.
   const int current = controller_->currentSite();
   if (current >= 0 && current < static_cast<int>(markers.size()) && !markers[current].highlighted)

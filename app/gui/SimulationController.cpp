@@ -240,6 +240,17 @@ void SimulationController::removeCurve(int index) {
   emit curvesChanged();
 }
 
+int SimulationController::siteOfCurve(int k) const {
+  if (k < 0 || k >= static_cast<int>(curves_.size()) || curves_[k].measured) return -1;
+  int best = -1;
+  double bestDistance = 2.0;  // µm: farther, the curve is of a site not in the list
+  for (size_t i = 0; i < sites_.size(); ++i) {
+    const double d = (sites_[i] - curves_[k].site).norm();
+    if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
+  }
+  return best;
+}
+
 void SimulationController::clearCurves() {
   curves_.clear();
   nextColour_ = 0;

@@ -65,6 +65,10 @@ class SimulationController : public QObject {
   /// The sites picked on the current tissue (µm), in order: "site N" is sites()[N − 1].
   const std::vector<Eigen::Vector3d>& sites() const { return sites_; }
   int currentSite() const { return currentSite_; }
+  /// The index in sites() of the site curve k was made at (the nearest within 2 µm of its own
+  /// point: a site's point moves a little when prepared again with other parameters), or −1 (a
+  /// measured curve, or a site no longer in the list).
+  int siteOfCurve(int k) const;
   /// Curves made since the session was last saved (or its curves exported), which closing the
   /// window or clearing would lose.
   bool hasUnsavedCurves() const { return unsaved_ && !curves_.empty(); }

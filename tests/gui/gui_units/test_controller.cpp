@@ -272,6 +272,18 @@ class ControllerTest : public QObject {
     c.pickSite(g.generation + 100, pick, Eigen::Vector3d(1, 0, 0));
     waitIdle(c);
     QCOMPARE(int(c.session().sites.size()), 3);
+    // Each curve knows its site (the markers take its colour, a click on a site's disc
+    // selects it); no curve, no site.
+    c.requestDepth(0.1);
+    QTRY_COMPARE_WITH_TIMEOUT(c.latest().depth, 0.1, 30000);
+    waitIdle(c);
+    // The drags made one curve at site 2 (index 1, the 0.2 µm push before the pick) and one
+    // here.
+    QCOMPARE(int(c.curves().size()), 2);
+    QCOMPARE(c.siteOfCurve(0), 1);
+    QCOMPARE(c.siteOfCurve(1), 2);
+    QCOMPARE(c.siteOfCurve(int(c.curves().size())), -1);
+    QCOMPARE(c.siteOfCurve(-1), -1);
   }
 
   void plasmolysedAtTheSameMaterialPoint() {
