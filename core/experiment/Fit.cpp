@@ -32,7 +32,7 @@ struct CurveModel {
   // The equilibrium at each point (empty where none was solved) of the last two θ evaluated,
   // the last accepted step and the last candidate: Ceres asks for the residuals of a candidate,
   // then, if it accepts it, for the residuals and the Jacobian at the same θ, whose equilibria
-  // are then already at hand (held in Problem::thetas_).
+  // are then already at hand (their θ in Problem::slots_).
   std::vector<Points> states[2];
   Points turgidAt[2];  // and the turgid state at each
   int level = 0;

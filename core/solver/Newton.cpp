@@ -122,7 +122,7 @@ bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
   for (int j = 0; j < n; ++j)
     maxDiag = std::max(maxDiag, std::abs(ev_.hessian[model_.pattern().colPtr[j + 1] - 1]));
   if (!(maxDiag > 0)) return false;
-  const Eigen::MatrixXd loads = loadsAt(ev_);  // before the factorisation may alter ev_'s Hessian
+  const Eigen::MatrixXd loads = loadsAt(ev_);  // from the evaluation K(x) is built on
   if (loads.rows() != dofs.fullCount() || loads.cols() == 0) return false;
   double shift = 0;  // the exact tangent: derivatives of an equilibrium (fit sensitivities)
   int factorizations = 0;
