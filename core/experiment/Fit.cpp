@@ -28,13 +28,12 @@ struct CurveModel {
   std::optional<Vec3> target;  // a site given in space: the nearest surface point at each θ
   std::optional<double> pressure;
   std::vector<double> depth, force;  // the points used, by increasing depth
-  Points turgid;                     // the last turgid state, to start the next from
   // The equilibrium at each point (empty where none was solved) of the last two θ evaluated,
   // the last accepted step and the last candidate: Ceres asks for the residuals of a candidate,
   // then, if it accepts it, for the residuals and the Jacobian at the same θ, whose equilibria
   // are then already at hand (their θ in Problem::slots_).
   std::vector<Points> states[2];
-  Points turgidAt[2];  // and the turgid state at each
+  Points turgidAt[2];  // and the turgid state at each (a new θ's starts from the other's)
   int level = 0;
   MeshError error;
 };
@@ -113,14 +112,14 @@ class Problem {
       is.control = Control::Depth;
       Indentation ind(model, is, solverOptions());
       ind.solver().setCancelFlag(monitor_.cancel);  // a cancel stops within one iteration
-      const Points& guess = c.turgidAt[slot].size() ? c.turgidAt[slot] : c.turgid;
+      const Points& guess = c.turgidAt[slot].size() ? c.turgidAt[slot] : c.turgidAt[1 - slot];
       const SolveReport rest = ind.prepare(guess.size() ? &guess : nullptr);
       if (!rest.converged) {
         message_ = "rest state at E = " + std::to_string(E) + ", p = " + std::to_string(p) + ": " +
                    rest.message;
         return false;
       }
-      c.turgid = c.turgidAt[slot] = ind.turgidState();
+      c.turgidAt[slot] = ind.turgidState();
       const double offset = layout_.offset0 >= 0 ? theta[layout_.offset0 + i] : 0.0;
       TurgidResponse turgid;  // shared by the curve's points: one factorisation, not one each
       if (J) {
