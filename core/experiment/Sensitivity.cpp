@@ -61,9 +61,12 @@ ForceSensitivity forceSensitivity(Indentation& ind, const TurgidResponse* turgid
   const int n3 = static_cast<int>(x.size());
   if (!model.probe()) return s;
 
-  // At the indented state, with the probe's centre c held: one factorisation of the tangent for
-  // the right-hand sides −∂g/∂θ and −∂g/∂c_j = −∂²W/∂x∂c_j (the probe moved along each axis),
-  // the probe's coupling ∂²W/∂x∂c taken from the assembly that builds the tangent.
+  // At the indented state, with the probe's centre c held, by the adjoint of the force
+  // (e.g. Giles & Pierce, "An introduction to the adjoint approach to design", 2000): with
+  // B = ∂²W/∂x∂c (the probe's coupling, from the assembly that builds the tangent K) the force
+  // changes by dF = (B a)·dx + a·∂²W/∂c² dc + its explicit part, and K dx = L dθ − B dc with
+  // L = −∂g/∂θ. One solve K w = B a (K symmetric) gives every derivative: dF/dθ_k = w·L_k
+  // (+ explicit), dF/dc = a·∂²W/∂c² − Bᵀw — one right-hand side per point instead of six.
   Eigen::MatrixXd probeCoupling;
   Vec3 probeGradient = Vec3::Zero();
   Mat3 probeHessian = Mat3::Zero();
@@ -72,24 +75,21 @@ ForceSensitivity forceSensitivity(Indentation& ind, const TurgidResponse* turgid
     probeCoupling = ev.probeCoupling;
     probeGradient = ev.probeGradient;
     probeHessian = ev.probeHessian;
-    Eigen::MatrixXd loads(n3, 6);
-    loads.leftCols(3) = parameterLoads(model, x);
-    loads.rightCols(3) = -ev.probeCoupling;
-    return loads;
+    return Eigen::MatrixXd(ev.probeCoupling * axis);  // ∂F/∂x, F = a·∂W/∂c
   };
-  Eigen::MatrixXd u;
-  if (!ind.solver().tangentSolve(x, loadsAt, u)) return s;
-  const Eigen::VectorXd coupling = probeCoupling * axis;  // ∂F/∂x, F = a·∂W/∂c
+  Eigen::MatrixXd solution;
+  if (!ind.solver().tangentSolve(x, loadsAt, solution)) return s;
+  const Eigen::VectorXd adjoint = solution.col(0);  // K⁻¹ B a
+  const Eigen::MatrixXd loads = parameterLoads(model, x);
   s.force = axis.dot(probeGradient);
   // The contact law's stiffness is κ = 1e3 E h (mechanics/terms/ContactTerm.cpp): the contact
   // energy, and F with it, scale with E and h explicitly too.
   const Material& mat = model.material();
   const double explicitPart[3] = {s.force / mat.youngModulus, 0.0, s.force / mat.thickness};
   double held[3];
-  for (int k = 0; k < 3; ++k) held[k] = explicitPart[k] + coupling.dot(u.col(k));
-  Vec3 dFdc;  // the total derivative of F with the probe's centre, the tissue in equilibrium
-  for (int j = 0; j < 3; ++j)
-    dFdc[j] = axis.dot(probeHessian.col(j)) + coupling.dot(u.col(3 + j));
+  for (int k = 0; k < 3; ++k) held[k] = explicitPart[k] + adjoint.dot(loads.col(k));
+  // The total derivative of F with the probe's centre, the tissue in equilibrium.
+  const Vec3 dFdc = probeHessian.transpose() * axis - probeCoupling.transpose() * adjoint;
   s.dDepth = dFdc.dot(axis);
 
   // The depth counts from first contact with the turgid state, which θ moves too. The probe

@@ -5,7 +5,7 @@
 // curves). Units: µN per MPa (E, p), µN per µm (h, depth).
 //
 // At equilibrium the gradient g(x; θ) = ∂W/∂x vanishes on the free unknowns; differentiating,
-// K dx/dθ = −∂g/∂θ with K the tangent (one factorisation, one solve per parameter). The force
+// K dx/dθ = −∂g/∂θ with K the tangent (the force needs one solve only: its adjoint). The force
 // F = a·∂W/∂c (c the sphere's centre, a the axis) changes by dF/dθ = (∂²W/∂x∂c a)·dx/dθ (+ its
 // explicit part: none for E, p, h; a·∂²W/∂c² a for the depth, which moves c by a).
 // What each parameter enters: the membrane energy is E·h times a function of the strains
@@ -44,9 +44,9 @@ TurgidResponse turgidResponse(Indentation& indentation);
 /// The sensitivities of the force at the indentation's current depth (axis held; the contact
 /// point follows θ: the site is the material point `restSite` when the settings give one, else
 /// the surface point nearest to `site`, as Indentation places it). The model's pressures must be
-/// uniform (the turgor p of every cell). Two factorisations: the tangent at the state and at the
-/// turgid state (the latter skipped when `turgid`, from turgidResponse() on the same
-/// indentation, is given).
+/// uniform (the turgor p of every cell). One linear solve with the tangent at the state (the
+/// adjoint of the force; see EquilibriumSolver::tangentSolve for how), and three with the tangent
+/// at the turgid state unless `turgid`, from turgidResponse() on the same indentation, is given.
 ForceSensitivity forceSensitivity(Indentation& indentation,
                                   const TurgidResponse* turgid = nullptr);
 

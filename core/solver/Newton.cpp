@@ -25,7 +25,7 @@ StaticSolver::StaticSolver(Model& model, SolverOptions options)
 
 bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& values,
                        const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol,
-                       int& iterations) {
+                       int& iterations, int maxIterations) {
   const double target = relTol * rhs.norm();
   sol.setZero(rhs.size());
   Eigen::VectorXd r = rhs, z, p, q;
@@ -33,7 +33,7 @@ bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& 
   p = z;
   double rz = r.dot(z);
   q.resize(rhs.size());
-  for (int k = 0; k < options_.maxPcgIterations; ++k) {
+  for (int k = 0; k < maxIterations; ++k) {
     symmetricMultiply(pattern, values, p.data(), q.data());
     const double pq = p.dot(q);
     if (!(pq > 0)) return false;  // negative curvature: leave it to the shifted factorisation
@@ -109,7 +109,9 @@ bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
   const DofMap& dofs = model_.dofs();
   const int n = dofs.freeCount();
   if (n == 0) return false;
-  if (analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz()) {
+  const bool reanalyse =
+      analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz();
+  if (reanalyse) {
     chol_.analyze(model_.pattern());
     analyzedFor_ = &model_.pattern();
     analyzedNnz_ = model_.pattern().nnz();
@@ -124,25 +126,54 @@ bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
   if (!(maxDiag > 0)) return false;
   const Eigen::MatrixXd loads = loadsAt(ev_);  // from the evaluation K(x) is built on
   if (loads.rows() != dofs.fullCount() || loads.cols() == 0) return false;
-  double shift = 0;  // the exact tangent: derivatives of an equilibrium (fit sensitivities)
-  int factorizations = 0;
-  std::string why;
-  const auto start = Clock::now();
-  const bool ok = factorizeTangent(shift, maxDiag, factorizations, {}, why);
-  totals_.factorizations += factorizations;
-  totals_.factorSeconds += seconds(start);
-  if (!ok) return false;
-  lastPcgIterations_ = 0;
-  lastPcgFailed_ = false;
   // The pattern may carry a bending term's edge unknowns after the positions (Model::pattern()):
   // they take a zero right-hand side and their part of the solution is not used.
-  displacements.setZero(dofs.fullCount(), loads.cols());
-  for (Eigen::Index c = 0; c < loads.cols(); ++c) {
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.pattern().n), u;
-    for (int i = 0; i < n; ++i) f[i] = loads(dofs.freeDofs()[i], c);
-    chol_.solve(f, u);
-    for (int i = 0; i < n; ++i) displacements(dofs.freeDofs()[i], c) = u[i];
+  const int nAll = model_.pattern().n;
+  std::vector<Eigen::VectorXd> f(loads.cols(), Eigen::VectorXd::Zero(nAll)), u(loads.cols());
+  for (Eigen::Index c = 0; c < loads.cols(); ++c)
+    for (int i = 0; i < n; ++i) f[c][i] = loads(dofs.freeDofs()[i], c);
+
+  // First, conjugate gradients on the exact K(x) preconditioned with the factor held from the
+  // last solve (usually of a nearby state: the last Newton iterations, a depth before), to a
+  // relative residual of 1e-12 — as accurate as the direct solve for the derivatives of a fit
+  // (ForceSensitivity's finite-difference tests) — within the operation count of one
+  // factorisation over all the loads (the rule of newtonDirection: a CG iteration costs about
+  // 13 flops per nonzero of L). An indefinite K(x), or a preconditioner too far from it, ends
+  // CG early: then the factorisation, as before.
+  bool solved = false;
+  if (options_.reuseFactorization && !reanalyse && chol_.factored() && chol_.factorFlops() > 0) {
+    constexpr double kPcgIterationFlopsPerNonzero = 13.0;
+    const int budget = static_cast<int>(chol_.factorFlops() /
+                                        (kPcgIterationFlopsPerNonzero * chol_.factorNonzeros()));
+    const auto start = Clock::now();
+    solved = true;
+    int used = 0;
+    for (size_t c = 0; c < f.size() && solved; ++c) {
+      int its = 0;
+      solved = f[c].norm() == 0
+                   ? (u[c].setZero(nAll), true)
+                   : pcg(model_.pattern(), ev_.hessian, f[c], u[c], 1e-12, its, budget - used);
+      used += its;
+    }
+    totals_.pcgIterations += used;
+    totals_.pcgSeconds += seconds(start);
   }
+  if (!solved) {
+    double shift = 0;  // the exact tangent: derivatives of an equilibrium (fit sensitivities)
+    int factorizations = 0;
+    std::string why;
+    const auto start = Clock::now();
+    const bool ok = factorizeTangent(shift, maxDiag, factorizations, {}, why);
+    totals_.factorizations += factorizations;
+    totals_.factorSeconds += seconds(start);
+    if (!ok) return false;
+    lastPcgIterations_ = 0;
+    lastPcgFailed_ = false;
+    for (size_t c = 0; c < f.size(); ++c) chol_.solve(f[c], u[c]);
+  }
+  displacements.setZero(dofs.fullCount(), loads.cols());
+  for (Eigen::Index c = 0; c < loads.cols(); ++c)
+    for (int i = 0; i < n; ++i) displacements(dofs.freeDofs()[i], c) = u[c][i];
   return displacements.allFinite();
 }
 
@@ -364,8 +395,8 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     const double eta = std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
     int its = 0;
     const auto tick = Clock::now();
-    solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its) &&
-             (!r.fc || pcg(r.pattern, ev_.hessian, r.b, r.z2, eta, its));
+    solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its, options_.maxPcgIterations) &&
+             (!r.fc || pcg(r.pattern, ev_.hessian, r.b, r.z2, eta, its, options_.maxPcgIterations));
     totals_.pcgSeconds += seconds(tick);
 
     r.rep.pcgIterations += its;

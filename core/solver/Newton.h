@@ -52,7 +52,8 @@ class StaticSolver final : public EquilibriumSolver {
   bool factorizeTangent(double& shift, double maxDiag, int& factorizations,
                         const std::function<void()>& projectContact, std::string& why);
   bool pcg(const SparsePattern& pattern, const std::vector<double>& values,
-           const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol, int& iterations);
+           const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol, int& iterations,
+           int maxIterations);
 
   Model& model_;
   SolverOptions options_;

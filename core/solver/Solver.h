@@ -85,8 +85,10 @@ class EquilibriumSolver {
     displacement = u.col(0);
     return true;
   }
-  /// The same for several loads (one per column) with one factorisation of K(x), unshifted (an
-  /// equilibrium's tangent is positive definite; a diagonal shift is added only if it is not).
+  /// The same for several loads (one per column) with K(x) unshifted (an equilibrium's tangent
+  /// is positive definite; a diagonal shift is added only if it is not). Solved to round-off:
+  /// by conjugate gradients preconditioned with the factor the solver holds when that converges
+  /// within the cost of a factorisation, else with one factorisation of K(x).
   virtual bool tangentSolve(const Points& x, const Eigen::MatrixXd& loads,
                             Eigen::MatrixXd& displacements) {
     return tangentSolve(
