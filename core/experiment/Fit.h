@@ -34,6 +34,9 @@ struct FitSettings {
   bool fitOffset = false;  // a contact-point offset per curve (µm, added to the model's depth)
   int maxIterations = 30;
   int maxPoints = 25;  // measured points used per curve, evenly spread over its depths
+  // With E and p both fitted (and any held turgor 0), search over p/E with E in closed form
+  // (variable projection, Fit.cpp); off: over E and p together, as a check of the former.
+  bool factorOutModulus = true;
 };
 
 struct FitValue {

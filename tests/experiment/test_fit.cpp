@@ -114,6 +114,52 @@ TEST(Fit, NoisyCurvesAreCoveredByTheReportedIntervals) {
   EXPECT_GT(r.rms, 0.02 * 0.5 * r.curves[1].measured.back() * 0.1);  // the noise is seen
 }
 
+TEST(Fit, ForcesScaleWithModulusAndTurgorTogether) {
+  // Every energy term is linear in E at fixed p/E (membrane ∝ E h, bending ∝ E h³, contact
+  // κ ∝ E h, turgor ∝ p): the curve at (2.5 E, 2.5 p) is 2.5 times the curve at (E, p), which the
+  // fit's variable projection relies on. Turgid and plasmolysed.
+  for (const double p : {0.3, 0.0}) {
+    const MeasuredCurve a = synthetic(60, p), b = synthetic(150, 2.5 * p);
+    ASSERT_EQ(a.force.size(), b.force.size());
+    ASSERT_GT(a.force.back(), 0.1);
+    for (size_t k = 0; k < a.force.size(); ++k) {
+      EXPECT_DOUBLE_EQ(a.depth[k], b.depth[k]);
+      EXPECT_NEAR(b.force[k], 2.5 * a.force[k], 1e-8 * b.force.back())
+          << "p " << p << ", point " << k;
+    }
+  }
+}
+
+TEST(Fit, FactoringOutTheModulusChangesNeitherTheFitNorItsIntervals) {
+  // The search over p/E with E in closed form (the default) and the search over E and p
+  // together reach the same minimum with the same Jacobian there: same values, standard errors
+  // and correlation, on noisy curves with their contact points fitted too.
+  FitSettings fs;
+  fs.start = settings(100, 0.8);
+  fs.fitOffset = true;
+  const std::vector<FitCurve> curves = {FitCurve{synthetic(60, 0.3, 0.02), {}, {}},
+                                        FitCurve{synthetic(60, 0.0, 0.02), {}, 0.0}};
+  const FitResult scaled = fitCurves(tissue(), fs, curves);
+  fs.factorOutModulus = false;
+  const FitResult joint = fitCurves(tissue(), fs, curves);
+  ASSERT_TRUE(scaled.converged) << scaled.message;
+  ASSERT_TRUE(joint.converged) << joint.message;
+  std::printf(
+      "  factored out: %d evaluations, E %.6g +- %.3g, p %.6g +- %.3g\n"
+      "  joint:        %d evaluations, E %.6g +- %.3g, p %.6g +- %.3g\n",
+      scaled.evaluations, scaled.find("E")->value, scaled.find("E")->error, scaled.find("p")->value,
+      scaled.find("p")->error, joint.evaluations, joint.find("E")->value, joint.find("E")->error,
+      joint.find("p")->value, joint.find("p")->error);
+  for (const std::string key : {"E", "p", "offset_1", "offset_2"}) {
+    const FitValue &a = *scaled.find(key), &b = *joint.find(key);
+    // Both minimise the same cost to Ceres' function tolerance: well inside a standard error.
+    EXPECT_NEAR(a.value, b.value, 0.01 * b.error) << key;
+    EXPECT_NEAR(a.error, b.error, 0.01 * b.error) << key;
+  }
+  EXPECT_NEAR(scaled.correlation(0, 1), joint.correlation(0, 1), 1e-3);
+  EXPECT_NEAR(scaled.rms, joint.rms, 1e-4 * joint.rms);
+}
+
 TEST(Fit, NothingToFitOrNoDepthIsRefused) {
   FitSettings fs;
   fs.start = settings(100, 0.8);
