@@ -477,9 +477,15 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
   options.max_num_line_search_step_size_iterations = 0;
   struct Progress : ceres::IterationCallback {
     const Monitor& monitor;
+    double cost = 0;  // at the point the search stands at
     explicit Progress(const Monitor& m) : monitor(m) {}
     ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-      monitor.say("Fit iteration " + std::to_string(s.iteration) + ": cost " + fixed(s.cost, 6));
+      // Ceres reports a rejected step with the cost of the point it tried, not of the point it
+      // stays at: said as such, so that the cost a user follows never seems to rise.
+      const bool moved = s.step_is_successful || s.iteration == 0;
+      if (moved) cost = s.cost;
+      monitor.say("Fit iteration " + std::to_string(s.iteration) + ": cost " + fixed(cost, 6) +
+                  (moved ? "" : " (a step to " + fixed(s.cost, 6) + " rejected)"));
       return monitor.cancelled() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
     }
   } progress(monitor);
