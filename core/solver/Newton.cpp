@@ -13,6 +13,8 @@ namespace tp {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+// A CG iteration's cost in flops of the factorisation per nonzero of L (newtonDirection).
+constexpr double kPcgIterationFlopsPerNonzero = 13.0;
 double seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
@@ -142,7 +144,6 @@ bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
   // CG early: then the factorisation, as before.
   bool solved = false;
   if (options_.reuseFactorization && !reanalyse && chol_.factored() && chol_.factorFlops() > 0) {
-    constexpr double kPcgIterationFlopsPerNonzero = 13.0;
     const int budget = static_cast<int>(chol_.factorFlops() /
                                         (kPcgIterationFlopsPerNonzero * chol_.factorNonzeros()));
     const auto start = Clock::now();
@@ -382,7 +383,6 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // meristem a factorisation costs about as much as 40 CG iterations; on large meshes the
   // triangular solves get relatively cheaper, so more CG iterations are done before
   // refactorising.
-  constexpr double kPcgIterationFlopsPerNonzero = 13.0;
   const bool factorDrifted =
       lastPcgFailed_ ||
       (lastPcgIterations_ > options_.refactorAfterPcg &&
