@@ -207,7 +207,7 @@ struct StaticSolver::Run {
   const Points x0;
   const double travel0;
   double travel;
-  double stiffScale = 0, floor = 0, noiseFloor = 0, maxProbeStep = 0;
+  double stiffScale = 0, floor = 0, noiseFloor = 0, stallFloor = 0, maxProbeStep = 0;
   Eigen::VectorXd g, dx, z2, b;  // residual, Newton step, K⁻¹b, b = ∂²W/∂x∂s
   double gs = 0;                 // the residual of the probe's travel under force control
   double shift = 0, maxDiag = 0;
@@ -229,6 +229,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   r.stiffScale = mat.youngModulus * mat.thickness;  // µN/µm
   r.floor = loadFreeFloor(model_);
   r.noiseFloor = roundOffFloor(model_, r.n);
+  r.stallFloor = positionRoundOffFloor(model_, r.n);
   r.maxProbeStep = options_.maxProbeStep > 0
                        ? options_.maxProbeStep
                        : (model_.probe() ? 0.25 * model_.probe()->radius : 0.0);
@@ -264,9 +265,9 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (!std::isfinite(rep.energy)) return fail(r, "energy is not finite");
     if (!std::isfinite(rep.residual)) return fail(r, "residual is not finite");
     // Stagnation: when full Newton steps no longer reduce the residual and it is already within
-    // a hundred times the target, it sits on the round-off floor of the forces (sliver
-    // triangles far from the origin make that floor higher than roundOffFloor() says): the
-    // state is as converged as the arithmetic allows.
+    // a hundred times the target, or than the floor of positions far from the origin, it sits
+    // on the round-off floor of the forces (sliver triangles far from the origin make that floor
+    // higher than roundOffFloor() says): the state is as converged as the arithmetic allows.
     const double goal = std::max(options_.tolerance * rep.loadScale, r.noiseFloor);
     if (rep.residual < 0.5 * bestResidual) {
       bestResidual = rep.residual;
@@ -274,7 +275,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     } else if (it > 0) {
       ++stalled;
     }
-    const bool atFloor = stalled >= 3 && rep.residual <= 100 * goal;
+    const bool atFloor = stalled >= 3 && rep.residual <= 100 * std::max(goal, r.stallFloor);
     if (cancel_ && cancel_->load()) return fail(r, "cancelled");
     if (rep.residual <= goal || atFloor) {
       if (atFloor && rep.residual > goal)

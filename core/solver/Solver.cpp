@@ -1,5 +1,6 @@
 #include "solver/Solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -35,6 +36,18 @@ double roundOffFloor(const Model& model, int unknowns) {
   const Material& m = model.material();
   return 1e-14 * 2 * (m.mu() + m.lambdaPlaneStress()) * m.thickness * model.meanEdgeLength() *
          std::sqrt(static_cast<double>(unknowns));
+}
+
+double positionRoundOffFloor(const Model& model, int unknowns) {
+  // As roundOffFloor, but with each term known only to ~1e-16 |x| / ℓ of itself: an edge is the
+  // difference of two positions each rounded to 1e-16 |x|. A cap of a sphere 10 µm from the
+  // origin refined to 0.03 µm edges stalled at 7.8e-10 µN (this floor: 5e-10 µN, roundOffFloor
+  // 1.5e-12 µN); moved to the origin, at 7e-12 µN. A bound, often far above what is reached.
+  const Material& m = model.material();
+  const Points& X = model.complex().rest;
+  const double extent = X.cols() ? X.cwiseAbs().maxCoeff() : 0.0;
+  return 1e-14 * 2 * (m.mu() + m.lambdaPlaneStress()) * m.thickness *
+         std::max(model.meanEdgeLength(), extent) * std::sqrt(static_cast<double>(unknowns));
 }
 
 }  // namespace tp

@@ -121,5 +121,9 @@ std::unique_ptr<EquilibriumSolver> makeSolver(Model& model, const SolverOptions&
 /// state without load counts as converged, and the round-off floor of nodal forces (µN).
 double loadFreeFloor(const Model& model);
 double roundOffFloor(const Model& model, int unknowns);
+/// The round-off floor of nodal forces when walls lie far from the origin compared with their
+/// edges (µN): a residual that full Newton steps no longer reduce counts as converged below a
+/// hundred times this.
+double positionRoundOffFloor(const Model& model, int unknowns);
 
 }  // namespace tp
