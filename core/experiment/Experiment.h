@@ -39,8 +39,10 @@ struct MeshSettings {
 /// The graded refinement of level L ≥ 1 around a material point of the rest surface: longest
 /// edges of R·2^(1−L) (R the probe radius) within R of it (the contact patch up to depths of
 /// R/2), growing by 2^(3−L)/grading per µm beyond, on the whole of every wall reaching within
-/// one cell size (at least 4 R) of that radius. Each level halves the target size everywhere in
-/// that zone; the walls beyond keep the tissue's own triangles.
+/// one cell size (at least 4 R) of that radius, whose edges are also at most 0.35 cell sizes ×
+/// 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue. Each
+/// level halves the target size everywhere in that zone; the walls beyond keep the tissue's own
+/// triangles.
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
                                 int level, double grading);
 

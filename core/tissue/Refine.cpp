@@ -259,7 +259,8 @@ double GradedRefinement::targetSize(double distance) const {
 
 RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec) {
   if (!(spec.finest > 0) || !(spec.grading > 0) || !(spec.innerRadius >= 0) ||
-      !(spec.outerRadius >= 0) || !spec.center.allFinite() || !(spec.panelSize >= 0))
+      !(spec.outerRadius >= 0) || !spec.center.allFinite() || !(spec.panelSize >= 0) ||
+      !(spec.panelFraction >= 0))
     throw std::invalid_argument("graded refinement needs a finite centre, a positive finest size "
                                 "and grading, and non-negative radii");
   // The zone: every wall with a triangle within the outer radius, refined whole.
@@ -271,6 +272,19 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
                                cc.rest.col(tri[2]), nullptr, nullptr, nullptr) <= outer2)
       zone[cc.triangleWall[t]] = 1;
   }
+  double panel = spec.panelSize;
+  if (spec.panelFraction > 0) {
+    double longestBase2 = 0;
+    for (int t = 0; t < cc.triangleCount(); ++t) {
+      if (!zone[cc.triangleWall[t]]) continue;
+      const auto& tri = cc.triangles[t];
+      for (int k = 0; k < 3; ++k)
+        longestBase2 = std::max(
+            longestBase2, (cc.rest.col(tri[(k + 1) % 3]) - cc.rest.col(tri[k])).squaredNorm());
+    }
+    const double cap = spec.panelFraction * std::sqrt(longestBase2);
+    if (cap > 0) panel = panel > 0 ? std::min(panel, cap) : cap;
+  }
   Refiner r(cc);
   int passes = 0;
   for (; passes < spec.maxPasses; ++passes) {
@@ -280,7 +294,7 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
       const double longest =
           std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
       double target = spec.targetSize(std::sqrt(d2));
-      if (spec.panelSize > 0) target = std::min(target, spec.panelSize);
+      if (panel > 0) target = std::min(target, panel);
       return longest > target * target;
     });
     if (marked == 0) break;

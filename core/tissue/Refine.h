@@ -35,6 +35,8 @@ struct GradedRefinement {
   double grading = 4;        // target size grows by 1/grading per µm beyond innerRadius
   double outerRadius = 0;    // µm: the walls reaching within it are refined, whole
   double panelSize = 0;      // µm: longest edge anywhere on those walls (0: no such cap)
+  double panelFraction = 0;  // longest edge on those walls at most this fraction of the longest
+                             // edge they have in the base (0: no such cap)
   int maxPasses = 16;
   double targetSize(double distance) const;
 };
