@@ -389,9 +389,19 @@ struct BuildArgs {
   double realCellSize = 0;
   std::string box;
   double cellSize = 6.0;
+  std::string cap;  // R,A
+  double plate = 0;
+  int rings = 12;
   std::string out;
   bool binary = false;
 };
+
+// The ring count of --cap and --plate: a lattice of about 3·rings² vertices.
+int checkedRings(int rings) {
+  if (rings < 2 || rings > 400)
+    throw UsageError("--rings: expected 2 to 400 rings, got " + std::to_string(rings));
+  return rings;
+}
 
 int runBuild(const BuildArgs& b) {
   if (b.out.empty()) throw UsageError("--out FILE.ply is required");
@@ -449,8 +459,24 @@ int runBuild(const BuildArgs& b) {
                        std::to_string(b.cellSize));
     cc = boxTissue(static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2]),
                    b.cellSize);
+  } else if (!b.cap.empty()) {
+    double R = 0, A = 0;
+    char rest = 0;
+    if (std::sscanf(b.cap.c_str(), "%lf,%lf%c", &R, &A, &rest) != 2 || !std::isfinite(R) ||
+        !std::isfinite(A) || !(A > 0) || !(A < R) || R > 1e4)
+      throw UsageError("--cap: expected R,A in um with 0 < A < R <= 10000 (sphere radius, base "
+                       "radius), got '" + b.cap + "'");
+    cc = sphericalCap(R, A, checkedRings(b.rings), /*cell=*/0);
+  } else if (b.plate != 0) {
+    if (!(std::isfinite(b.plate) && b.plate > 0 && b.plate <= 1e4))
+      throw UsageError("--plate: expected a radius between 0 and 10000 um, got " +
+                       std::to_string(b.plate));
+    const int rings = checkedRings(b.rings);
+    // Two rings of clamped triangles beyond the rim: a built-in edge (zero slope).
+    cc = latticeDisc(b.plate, rings, 2 * b.plate / rings, /*cell=*/0);
   } else {
-    throw UsageError("choose what to build: --generate, --centroids FILE or --box NX,NY,NZ");
+    throw UsageError("choose what to build: --generate, --centroids FILE, --box NX,NY,NZ, "
+                     "--cap R,A or --plate A");
   }
   writePly(b.out, cc, nullptr, b.binary);
   std::printf("wrote %s\n%s", b.out.c_str(), formatQuality(measureQuality(cc)).c_str());
@@ -1038,6 +1064,16 @@ int main(int argc, char** argv) {
                     "distances)");
   build->add_option("--box", ba.box, "A block of NX,NY,NZ cubic cells, base clamped");
   build->add_option("--cell-size", ba.cellSize, "Cell size, um")->capture_default_str();
+  build->add_option("--cap", ba.cap,
+                    "A spherical cap R,A (um): sphere radius R, base radius A, rim clamped, the "
+                    "wall of one cell below it (a pressure inflates it); for the point load on a "
+                    "thin sphere (Reissner; Vella et al. 2012 with pressure), take A several "
+                    "sqrt(R h)");
+  build->add_option("--plate", ba.plate,
+                    "A flat circular plate of radius A (um), edge built in (clamped, zero slope), "
+                    "the wall of one cell below it");
+  build->add_option("--rings", ba.rings, "Cap and plate: lattice rings from the centre to the rim")
+      ->capture_default_str();
   build->add_option("--out", ba.out, "Output tissue file (PLY)")->required();
   build->add_flag("--binary", ba.binary, "Write binary little-endian PLY");
 

@@ -188,9 +188,9 @@ CellComplex octaSphere(double R, int level) {
   return cc;
 }
 
-CellComplex sphericalCap(double R, double capRadius, int rings) {
+CellComplex sphericalCap(double R, double capRadius, int rings, int cell) {
   if (!(capRadius < R)) throw std::invalid_argument("sphericalCap: cap radius must be below R");
-  CellComplex cc = latticeDisc(capRadius, rings);
+  CellComplex cc = latticeDisc(capRadius, rings, 0, cell);
   const double phiMax = std::asin(capRadius / R);
   for (int v = 0; v < cc.vertexCount(); ++v) {
     const double x = cc.rest(0, v), y = cc.rest(1, v);

@@ -26,8 +26,9 @@ CellComplex octaSphere(double R, int level);
 
 /// Spherical cap of sphere radius R centred on the +z pole, of base radius `capRadius` measured
 /// in the plane (a latticeDisc mapped onto the sphere at equal geodesic distance, apex at
-/// (0, 0, R)); rim clamped; a sheet.
-CellComplex sphericalCap(double R, double capRadius, int rings);
+/// (0, 0, R)); rim clamped. One wall of cell `cell` (−1: a sheet), wound with its normal away
+/// from the sphere's centre, so the cell lies below the cap and a pressure inflates it.
+CellComplex sphericalCap(double R, double capRadius, int rings, int cell = -1);
 
 /// Flat sheet in z = 0 on an equilateral lattice of spacing ℓ covering about width × height
 /// (rows alternate by ℓ/2); a sheet, nothing clamped.

@@ -359,6 +359,28 @@ TEST(Cli, InfoAndBuildFromCentroids) {
   EXPECT_TRUE(std::filesystem::exists(out));
 }
 
+// The closed-form shapes: a cap and a plate are written with their clamped rims; bad shapes are
+// refused by name (their use is in tests/experiment/slow/test_cli_closed_form.cpp).
+TEST(Cli, BuildsTheShapesOfTheClosedForms) {
+  CliRun r = cli("build --cap 10,6 --rings 4 --out " + tmp("cap.ply"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = cli("info " + tmp("cap.ply"));
+  EXPECT_THAT(r.output, testing::ContainsRegex("vertices +[0-9]+ \\([1-9][0-9]* clamped\\)"));
+  EXPECT_THAT(r.output, HasSubstr(", 10] um"));  // the apex on the sphere of radius 10
+  EXPECT_THAT(r.output, HasSubstr("open cells clamped at the rim"));
+  r = cli("build --plate 10 --rings 4 --out " + tmp("plate.ply"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const std::string bad : {"--cap 6,10", "--cap 10", "--cap 10,nan", "--plate -1",
+                                "--plate 10 --rings 1", "--cap 10,6 --rings 5000"}) {
+    r = cli("build " + bad + " --out " + tmp("bad.ply"));
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr(bad.find("rings") != std::string::npos
+                                        ? "--rings"
+                                        : bad.substr(0, bad.find(' '))))
+        << bad;
+  }
+}
+
 TEST(Cli, CtrlCStopsTheRunAndKeepsThePointsDone) {
   // Issue 9: a long run stopped with Ctrl-C (SIGINT) ends cleanly: exit 130, the converged points
   // printed and written to the CSV with a comment saying so, no temporary file left behind.
