@@ -13,30 +13,18 @@
 #include <unistd.h>
 
 #include "io/CurveCsv.h"
+#include "support/RunCommand.h"
 #include "support/SharedData.h"
 
 using testing::HasSubstr;
 
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
+using CliRun = tp::test::CommandRun;
 
 CliRun cli(const std::string& args) {
-  const std::string cmd = std::string(TP_CLI) + " " + args + " 2>&1";
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  return tp::test::runCommand(std::string(TP_CLI) + " " + args);
 }
-
 
 std::string tmp(const std::string& name) { return testing::TempDir() + "/cli_" + name; }
 
