@@ -31,23 +31,29 @@ double loadFreeFloor(const Model& model) {
   return 1e-10 * m.youngModulus * m.thickness * model.meanEdgeLength();
 }
 
-double roundOffFloor(const Model& model, int unknowns) {
-  // Nodal forces are differences of terms of size ~ (μ+λ*) h ℓ, each known to ~1e-16 of itself.
+namespace {
+// Nodal forces are differences of terms of size ~ (μ+λ*) h ℓ, each known to ~1e-16 ·
+// `length` / ℓ of itself.
+double forceRoundOff(const Model& model, double length, int unknowns) {
   const Material& m = model.material();
-  return 1e-14 * 2 * (m.mu() + m.lambdaPlaneStress()) * m.thickness * model.meanEdgeLength() *
+  return 1e-14 * 2 * (m.mu() + m.lambdaPlaneStress()) * m.thickness * length *
          std::sqrt(static_cast<double>(unknowns));
+}
+}  // namespace
+
+double roundOffFloor(const Model& model, int unknowns) {
+  // Each term known to ~1e-16 of itself.
+  return forceRoundOff(model, model.meanEdgeLength(), unknowns);
 }
 
 double positionRoundOffFloor(const Model& model, int unknowns) {
-  // As roundOffFloor, but with each term known only to ~1e-16 |x| / ℓ of itself: an edge is the
-  // difference of two positions each rounded to 1e-16 |x|. A cap of a sphere 10 µm from the
-  // origin refined to 0.03 µm edges stalled at 7.8e-10 µN (this floor: 5e-10 µN, roundOffFloor
-  // 1.5e-12 µN); moved to the origin, at 7e-12 µN. A bound, often far above what is reached.
-  const Material& m = model.material();
+  // Each term known only to ~1e-16 |x| / ℓ of itself: an edge is the difference of two positions
+  // each rounded to 1e-16 |x|. A cap of a sphere 10 µm from the origin refined to 0.03 µm edges
+  // stalled at 7.8e-10 µN (this floor: 5e-10 µN, roundOffFloor 1.5e-12 µN); moved to the origin,
+  // at 7e-12 µN. A bound, often far above what is reached.
   const Points& X = model.complex().rest;
   const double extent = X.cols() ? X.cwiseAbs().maxCoeff() : 0.0;
-  return 1e-14 * 2 * (m.mu() + m.lambdaPlaneStress()) * m.thickness *
-         std::max(model.meanEdgeLength(), extent) * std::sqrt(static_cast<double>(unknowns));
+  return forceRoundOff(model, std::max(model.meanEdgeLength(), extent), unknowns);
 }
 
 }  // namespace tp
