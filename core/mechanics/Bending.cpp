@@ -31,6 +31,16 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
   gy << v.cross(wh), wh.cross(u), P * c / wn;
   const Eigen::Matrix<double, 9, 1> gq = th_x * gx + th_y * gy;
 
+  if (grad) {  // Jᵀ g_q with J (below) written out: [c]ₓᵀ w = w × c
+    const Vec3 gu = gq.segment<3>(0), gv = gq.segment<3>(3), ge = gq.segment<3>(6);
+    grad->segment<3>(0) = gu.cross(a - e) + gv.cross(e - b) - ge;
+    grad->segment<3>(3) = a.cross(gu) + gv.cross(b) + ge;
+    grad->segment<3>(6) = gu.cross(e);
+    grad->segment<3>(9) = e.cross(gv);
+  }
+  if (!hess) return theta;
+
+  // J = ∂q/∂x, q = (u, v, e).
   Eigen::Matrix<double, 9, 12> J = Eigen::Matrix<double, 9, 12>::Zero();
   const Mat3 Ce = crossMatrix(e), Ca = crossMatrix(a), Cb = crossMatrix(b);
   J.block<3, 3>(0, 0) = Ca - Ce;
@@ -41,9 +51,6 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
   J.block<3, 3>(3, 9) = -Ce;
   J.block<3, 3>(6, 0) = -Mat3::Identity();
   J.block<3, 3>(6, 3) = Mat3::Identity();
-
-  if (grad) *grad = J.transpose() * gq;
-  if (!hess) return theta;
 
   // ∇²_q x and ∇²_q y.
   Eigen::Matrix<double, 9, 9> Hx = Eigen::Matrix<double, 9, 9>::Zero();

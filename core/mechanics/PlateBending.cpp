@@ -262,37 +262,54 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
   return pb;
 }
 
-Eigen::VectorXd plateEdgeRotations(const PlateBending& pb, const std::vector<double>& theta) {
+Eigen::Vector3d plateAngleSlopes(const PlateBending& pb, int element,
+                                 const std::vector<double>& theta) {
+  const auto& el = pb.elements[element];
+  Eigen::Vector3d ds = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k)
+    for (int r = el.refBegin[k]; r < el.refBegin[k + 1]; ++r) {
+      const auto& ref = pb.refs[r];
+      ds(k) += ref.coeff * wrapAngle(theta[ref.pair] - pb.pairs[ref.pair].restAngle);
+    }
+  return ds;
+}
+
+Eigen::VectorXd plateEdgeRotations(const PlateBending& pb,
+                                   const std::vector<Eigen::Vector3d>& angleSlopes) {
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(pb.edgeUnknowns);
   if (pb.edgeUnknowns == 0) return rhs;
-  for (const auto& el : pb.elements) {
-    if (el.refBegin[3] == el.refBegin[0]) continue;
-    Eigen::Vector3d ds = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k)
-      for (int r = el.refBegin[k]; r < el.refBegin[k + 1]; ++r) {
-        const auto& ref = pb.refs[r];
-        ds(k) += ref.coeff * wrapAngle(theta[ref.pair] - pb.pairs[ref.pair].restAngle);
-      }
-    const Eigen::Vector3d y = el.B * ds;
+  for (size_t t = 0; t < pb.elements.size(); ++t) {
+    const auto& el = pb.elements[t];
+    if (el.edgeUnknown[0] < 0 && el.edgeUnknown[1] < 0 && el.edgeUnknown[2] < 0) continue;
+    const Eigen::Vector3d y = el.B * angleSlopes[t];
     for (int k = 0; k < 3; ++k)
       if (el.edgeUnknown[k] >= 0) rhs(el.edgeUnknown[k]) -= el.edgeSign[k] * y(k);
   }
   return pb.edgeSolver->solve(rhs);
 }
 
+Eigen::VectorXd plateEdgeRotations(const PlateBending& pb, const std::vector<double>& theta) {
+  std::vector<Eigen::Vector3d> slopes(pb.elements.size());
+  for (size_t t = 0; t < slopes.size(); ++t)
+    slopes[t] = plateAngleSlopes(pb, static_cast<int>(t), theta);
+  return plateEdgeRotations(pb, slopes);
+}
+
+Eigen::Vector3d plateSlopeChanges(const PlateBending& pb, int element,
+                                  const Eigen::Vector3d& angleSlopes, const Eigen::VectorXd& phi) {
+  const auto& el = pb.elements[element];
+  Eigen::Vector3d ds = angleSlopes;
+  for (int k = 0; k < 3; ++k)
+    if (el.edgeUnknown[k] >= 0) ds(k) += el.edgeSign[k] * phi(el.edgeUnknown[k]);
+  return ds;
+}
+
 double plateElementEnergy(const PlateBending& pb, int element, const std::vector<double>& theta,
                           const Eigen::VectorXd& phi, Eigen::Vector3d* dsOut) {
-  const auto& el = pb.elements[element];
-  Eigen::Vector3d ds = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 3; ++k) {
-    for (int r = el.refBegin[k]; r < el.refBegin[k + 1]; ++r) {
-      const auto& ref = pb.refs[r];
-      ds(k) += ref.coeff * wrapAngle(theta[ref.pair] - pb.pairs[ref.pair].restAngle);
-    }
-    if (el.edgeUnknown[k] >= 0) ds(k) += el.edgeSign[k] * phi(el.edgeUnknown[k]);
-  }
+  const Eigen::Vector3d ds =
+      plateSlopeChanges(pb, element, plateAngleSlopes(pb, element, theta), phi);
   if (dsOut) *dsOut = ds;
-  return 0.5 * ds.dot(el.B * ds);
+  return 0.5 * ds.dot(pb.elements[element].B * ds);
 }
 
 double plateBendingEnergy(const PlateBending& pb, const Points& x, std::vector<double>* perTriangle) {

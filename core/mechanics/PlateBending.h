@@ -95,8 +95,20 @@ struct PlateBending {
 PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, double D, double nu,
                                JunctionRule rule);
 
+/// The part of element `element`'s slope changes Δs that comes from the pairs' angles θ (rad),
+/// before the edge unknowns.
+Eigen::Vector3d plateAngleSlopes(const PlateBending& pb, int element,
+                                 const std::vector<double>& theta);
+
 /// The edge unknowns that minimise the energy for the pairs' current angles θ (rad).
 Eigen::VectorXd plateEdgeRotations(const PlateBending& pb, const std::vector<double>& theta);
+/// The same from every element's angle part of Δs (plateAngleSlopes).
+Eigen::VectorXd plateEdgeRotations(const PlateBending& pb,
+                                   const std::vector<Eigen::Vector3d>& angleSlopes);
+
+/// An element's slope changes Δs: its angle part plus its edge unknowns' turns.
+Eigen::Vector3d plateSlopeChanges(const PlateBending& pb, int element,
+                                  const Eigen::Vector3d& angleSlopes, const Eigen::VectorXd& phi);
 
 /// Energy of one element for the pairs' angles θ and the edge unknowns φ; if ds is given, the
 /// element's slope changes Δs are written to it.

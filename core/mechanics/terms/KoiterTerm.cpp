@@ -23,6 +23,17 @@ class KoiterTerm final : public EnergyTerm {
     if (plate_.maxArity > kMaxArity)  // each edge has one pair at most (PlateBending.cpp)
       throw std::logic_error("Koiter bending: an element with more than one wing per edge");
     for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
+    // Flat copies of the elements' vertex lists and the pairs' uses, read in every evaluation.
+    vertBegin_.assign(1, 0);
+    for (const auto& el : plate_.elements) {
+      verts_.insert(verts_.end(), el.vertices.begin(), el.vertices.end());
+      vertBegin_.push_back(static_cast<int>(verts_.size()));
+    }
+    useBegin_.assign(1, 0);
+    for (const auto& uses : plate_.pairUses) {
+      uses_.insert(uses_.end(), uses.begin(), uses.end());
+      useBegin_.push_back(static_cast<int>(uses_.size()));
+    }
   }
   std::string name() const override { return "Koiter bending"; }
   EnergyPart part() const override { return EnergyPart::Bending; }
@@ -75,12 +86,13 @@ class KoiterTerm final : public EnergyTerm {
     }
   }
 
-  // Four passes, every thread of the model's parallel region taking part: (1) each pair's
-  // dihedral angle and its gradient; (2) the edge unknowns that minimise the energy for those
-  // angles (one solve with the factorised A, mechanics/PlateBending.h); (3) each element's
-  // energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k (y = B Δs; the edge unknowns' part is zero at the
-  // minimum) and the matrix Gᵀ B G over its positions and edge unknowns, G = ∂Δs/∂(x, φ); (4) the
-  // curvature part, each pair's Σ (coeff · y_k) ∇²θ gathered from the elements that use it.
+  // Five passes, every thread of the model's parallel region taking part: (1) each pair's
+  // dihedral angle and its gradient; (2) each element's slope changes from those angles; (3) the
+  // edge unknowns that minimise the energy for them (one solve with the factorised A,
+  // mechanics/PlateBending.h); (4) each element's energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k
+  // (y = B Δs; the edge unknowns' part is zero at the minimum) and the matrix Gᵀ B G over its
+  // positions and edge unknowns, G = ∂Δs/∂(x, φ); (5) the curvature part, each pair's
+  // Σ (coeff · y_k) ∇²θ gathered from the elements that use it.
   double evaluate(const Points& x, const EvalOptions& o, TermSink& sink) const override {
     const int P = static_cast<int>(plate_.pairs.size());
     const int T = static_cast<int>(plate_.elements.size());
@@ -88,7 +100,8 @@ class KoiterTerm final : public EnergyTerm {
     {
       pairTheta_.resize(P);
       pairGrad_.resize(P);
-      plateY_.assign(T, Eigen::Vector3d::Zero());
+      plateY_.resize(T);
+      angleSlopes_.resize(T);
     }
 #pragma omp for schedule(static)
     for (int p = 0; p < P; ++p) {
@@ -96,8 +109,10 @@ class KoiterTerm final : public EnergyTerm {
       pairTheta_[p] = dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]),
                                     &pairGrad_[p], nullptr);
     }
+#pragma omp for schedule(static)
+    for (int t = 0; t < T; ++t) angleSlopes_[t] = plateAngleSlopes(plate_, t, pairTheta_);
 #pragma omp single
-    phi_ = plateEdgeRotations(plate_, pairTheta_);
+    phi_ = plateEdgeRotations(plate_, angleSlopes_);
     double energy = 0;
     constexpr int kMax = 3 * kMaxArity + 3;
     using LocalGrads = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kMax, 3>;
@@ -106,13 +121,17 @@ class KoiterTerm final : public EnergyTerm {
 #pragma omp for schedule(static)
     for (int t = 0; t < T; ++t) {
       const int begin = unknownBegin_[t], m = unknownBegin_[t + 1] - begin;
-      if (m == 0) continue;
+      if (m == 0) {
+        plateY_[t].setZero();
+        continue;
+      }
       const auto& el = plate_.elements[t];
-      Eigen::Vector3d ds;
-      energy += plateElementEnergy(plate_, t, pairTheta_, phi_, &ds);
+      const Eigen::Vector3d ds = plateSlopeChanges(plate_, t, angleSlopes_[t], phi_);
       const Eigen::Vector3d y = el.B * ds;
+      energy += 0.5 * ds.dot(y);
       plateY_[t] = y;
-      const int mx = 3 * static_cast<int>(el.vertices.size());
+      const int* ev = verts_.data() + vertBegin_[t];
+      const int mx = 3 * (vertBegin_[t + 1] - vertBegin_[t]);
       LocalGrads G = LocalGrads::Zero(m, 3);  // ∂Δs_k/∂(local unknowns)
       int aux = mx;
       for (int k = 0; k < 3; ++k) {
@@ -124,7 +143,7 @@ class KoiterTerm final : public EnergyTerm {
         if (el.edgeUnknown[k] >= 0) G(aux++, k) = el.edgeSign[k];
       }
       const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMax, 1> ge = G.topRows(mx).lazyProduct(y);
-      for (int i = 0; i < mx; ++i) g[3 * el.vertices[i / 3] + i % 3] += ge[i];
+      for (int i = 0; i < mx; ++i) g[3 * ev[i / 3] + i % 3] += ge[i];
       if (!o.hessian) continue;
       // G B Gᵀ, upper triangle only, straight into the values (no small-matrix product kernels).
       LocalGrads GB(m, 3);
@@ -140,7 +159,8 @@ class KoiterTerm final : public EnergyTerm {
 #pragma omp for schedule(static) nowait
     for (int p = 0; p < P; ++p) {
       double mu = 0;
-      for (const auto& u : plate_.pairUses[p]) mu += u.coeff * plateY_[u.element](u.edge);
+      for (int k = useBegin_[p]; k < useBegin_[p + 1]; ++k)
+        mu += uses_[k].coeff * plateY_[uses_[k].element](uses_[k].edge);
       if (mu == 0.0) continue;
       const auto& pv = plate_.pairs[p].v;
       Vec12 gp;
@@ -172,16 +192,19 @@ class KoiterTerm final : public EnergyTerm {
   const CellComplex& cc_;
   PlateBending plate_;
   std::vector<int> pairVerts_;
+  std::vector<int> verts_, vertBegin_;  // each element's vertices (PlateBending::Element)
+  std::vector<PlateBending::PairUse> uses_;
+  std::vector<int> useBegin_;  // pair p's uses: [useBegin_[p], useBegin_[p + 1])
   // Each element's unknowns (three per vertex, then its edge unknowns, −1 where prescribed) and
   // the value-array positions of its local pairs i ≤ j, flattened.
   std::vector<int> unknowns_, unknownBegin_, slots_, slotBegin_;
   SlotTable pairSlots_;
-  // Per-evaluation scratch: each pair's angle and its gradient, the edge unknowns, each
-  // element's B Δs.
+  // Per-evaluation scratch: each pair's angle and its gradient, each element's slope changes
+  // from the angles, the edge unknowns, each element's B Δs.
   mutable std::vector<double> pairTheta_;
   mutable std::vector<Vec12> pairGrad_;
   mutable Eigen::VectorXd phi_;
-  mutable std::vector<Eigen::Vector3d> plateY_;
+  mutable std::vector<Eigen::Vector3d> plateY_, angleSlopes_;
 };
 
 }  // namespace
