@@ -73,7 +73,8 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
   const Eigen::Matrix<double, 9, 9> Hq = th_x * Hx + th_y * Hy + th_xx * gx * gx.transpose() +
                                          th_yy * gy * gy.transpose() +
                                          th_xy * (gx * gy.transpose() + gy * gx.transpose());
-  *hess = J.transpose() * Hq * J;
+  const Eigen::Matrix<double, 12, 9> JtH = J.transpose().lazyProduct(Hq);  // fixed sizes: no GEMM
+  hess->noalias() = JtH.lazyProduct(J);
 
   // Second-order terms of the bilinear maps u(e, a) and v(b, e).
   const Mat3 Gu = crossMatrix(gq.segment<3>(0)), Gv = crossMatrix(gq.segment<3>(3));
