@@ -125,7 +125,7 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
   std::vector<std::vector<int>> trianglePairs(cc.triangleCount());
   for (size_t p = 0; p < pairTris.size(); ++p)
     for (int t : pairTris[p]) trianglePairs[t].push_back(static_cast<int>(p));
-  pb.pairUses.resize(pb.pairs.size());
+  std::vector<std::vector<PlateBending::PairUse>> pairUses(pb.pairs.size());
   std::vector<int> pairUnknown(pb.pairs.size(), -1);
   std::vector<int> junctionUnknown(topo.edges.size(), -1);
   // The rigid junction at edge (a, b), if any: its index into topo.edges.
@@ -142,10 +142,12 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
   };
 
   pb.elements.resize(cc.triangleCount());
+  pb.vertexBegin.assign(1, 0);
   for (int t = 0; t < cc.triangleCount(); ++t) {
     PlateBending::Element& el = pb.elements[t];
     const auto& tri = cc.triangles[t];
-    el.vertices = {tri[0], tri[1], tri[2]};
+    auto& verts = pb.elementVertices;  // T's own list is its tail, from pb.vertexBegin[t]
+    verts.insert(verts.end(), tri.begin(), tri.end());
     el.live = isLive(t);
     const Vec3 Q0 = X.col(tri[0]), Q1 = X.col(tri[1]), Q2 = X.col(tri[2]);
     const double area = 0.5 * (Q1 - Q0).cross(Q2 - Q0).norm();
@@ -204,18 +206,17 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
         r.coeff = -1.0 * sigma;  // built in: the whole fold is T's
       }
       for (int i = 0; i < 4; ++i) {
-        auto it = std::find(el.vertices.begin(), el.vertices.end(), v[i]);
-        if (it == el.vertices.end()) {
-          el.vertices.push_back(v[i]);
-          it = el.vertices.end() - 1;
-        }
-        r.local[i] = static_cast<int>(it - el.vertices.begin());
+        const auto first = verts.begin() + pb.vertexBegin[t];
+        auto it = std::find(first, verts.end(), v[i]);
+        r.local[i] = static_cast<int>(it - first);
+        if (it == verts.end()) verts.push_back(v[i]);
       }
-      pb.pairUses[pair].push_back({t, k, r.coeff});
+      pairUses[pair].push_back({t, k, r.coeff});
       pb.refs.push_back(r);
     }
     el.refBegin[3] = static_cast<int>(pb.refs.size());
-    pb.maxArity = std::max(pb.maxArity, static_cast<int>(el.vertices.size()));
+    pb.vertexBegin.push_back(static_cast<int>(verts.size()));
+    pb.maxArity = std::max(pb.maxArity, pb.vertexBegin[t + 1] - pb.vertexBegin[t]);
     if (!usable) continue;
     el.B = morleyMatrix(Q0, Q1, Q2, D, nu);
     // A slope that is T's alone appears in no other energy: minimise it out here (exactly), so
@@ -239,6 +240,12 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
       }
       el.B = Bc;
     }
+  }
+
+  pb.useBegin.assign(1, 0);
+  for (const auto& uses : pairUses) {
+    pb.pairUses.insert(pb.pairUses.end(), uses.begin(), uses.end());
+    pb.useBegin.push_back(static_cast<int>(pb.pairUses.size()));
   }
 
   // A = Σ S_Tᵀ B_T S_T over the edge unknowns (SPD: every unknown sits in a live triangle).

@@ -73,7 +73,6 @@ struct PlateBending {
     std::array<int, 3> edgeUnknown{-1, -1, -1};    // φ of edge k (−1: none)
     std::array<double, 3> edgeSign{};              // Δs_k gets edgeSign[k] · φ
     std::array<bool, 3> ownSlope{};                // slope k is T's alone, minimised out of B
-    std::vector<int> vertices;                     // T's three vertices, then the wings
     bool live = false;                             // not rigid (some vertex free)
   };
   struct PairUse {
@@ -84,7 +83,12 @@ struct PlateBending {
   std::vector<Pair> pairs;
   std::vector<Element> elements;  // one per triangle, in triangle order
   std::vector<Ref> refs;
-  std::vector<std::vector<PairUse>> pairUses;  // per pair: the elements that use it
+  // Element t's vertices (its triangle's three, then the wings; Ref::local indexes them):
+  // elementVertices[vertexBegin[t] .. vertexBegin[t + 1]).
+  std::vector<int> elementVertices, vertexBegin;
+  // The elements that use pair p: pairUses[useBegin[p] .. useBegin[p + 1]).
+  std::vector<PairUse> pairUses;
+  std::vector<int> useBegin;
   int edgeUnknowns = 0;                        // number of φ
   /// A = Σ S_Tᵀ B_T S_T, factorised (shared by the copies of a model's rest data).
   std::shared_ptr<const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> edgeSolver;

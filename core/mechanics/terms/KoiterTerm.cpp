@@ -23,17 +23,6 @@ class KoiterTerm final : public EnergyTerm {
     if (plate_.maxArity > kMaxArity)  // each edge has one pair at most (PlateBending.cpp)
       throw std::logic_error("Koiter bending: an element with more than one wing per edge");
     for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
-    // Flat copies of the elements' vertex lists and the pairs' uses, read in every evaluation.
-    vertBegin_.assign(1, 0);
-    for (const auto& el : plate_.elements) {
-      verts_.insert(verts_.end(), el.vertices.begin(), el.vertices.end());
-      vertBegin_.push_back(static_cast<int>(verts_.size()));
-    }
-    useBegin_.assign(1, 0);
-    for (const auto& uses : plate_.pairUses) {
-      uses_.insert(uses_.end(), uses.begin(), uses.end());
-      useBegin_.push_back(static_cast<int>(uses_.size()));
-    }
   }
   std::string name() const override { return "Koiter bending"; }
   EnergyPart part() const override { return EnergyPart::Bending; }
@@ -50,8 +39,8 @@ class KoiterTerm final : public EnergyTerm {
       const auto& el = plate_.elements[t];
       if (el.refBegin[3] > el.refBegin[0] || el.edgeUnknown[0] >= 0 || el.edgeUnknown[1] >= 0 ||
           el.edgeUnknown[2] >= 0) {
-        for (int v : el.vertices)
-          for (int k = 0; k < 3; ++k) unknowns_.push_back(dofs.index(3 * v + k));
+        for (int i = plate_.vertexBegin[t]; i < plate_.vertexBegin[t + 1]; ++i)
+          for (int k = 0; k < 3; ++k) unknowns_.push_back(dofs.index(3 * plate_.elementVertices[i] + k));
         for (int k = 0; k < 3; ++k)
           if (el.edgeUnknown[k] >= 0) unknowns_.push_back(first + el.edgeUnknown[k]);
       }
@@ -130,8 +119,8 @@ class KoiterTerm final : public EnergyTerm {
       const Eigen::Vector3d y = el.B * ds;
       energy += 0.5 * ds.dot(y);
       plateY_[t] = y;
-      const int* ev = verts_.data() + vertBegin_[t];
-      const int mx = 3 * (vertBegin_[t + 1] - vertBegin_[t]);
+      const int* ev = plate_.elementVertices.data() + plate_.vertexBegin[t];
+      const int mx = 3 * (plate_.vertexBegin[t + 1] - plate_.vertexBegin[t]);
       LocalGrads G = LocalGrads::Zero(m, 3);  // ∂Δs_k/∂(local unknowns)
       int aux = mx;
       for (int k = 0; k < 3; ++k) {
@@ -159,8 +148,10 @@ class KoiterTerm final : public EnergyTerm {
 #pragma omp for schedule(static) nowait
     for (int p = 0; p < P; ++p) {
       double mu = 0;
-      for (int k = useBegin_[p]; k < useBegin_[p + 1]; ++k)
-        mu += uses_[k].coeff * plateY_[uses_[k].element](uses_[k].edge);
+      for (int k = plate_.useBegin[p]; k < plate_.useBegin[p + 1]; ++k) {
+        const auto& u = plate_.pairUses[k];
+        mu += u.coeff * plateY_[u.element](u.edge);
+      }
       if (mu == 0.0) continue;
       const auto& pv = plate_.pairs[p].v;
       Vec12 gp;
@@ -192,9 +183,6 @@ class KoiterTerm final : public EnergyTerm {
   const CellComplex& cc_;
   PlateBending plate_;
   std::vector<int> pairVerts_;
-  std::vector<int> verts_, vertBegin_;  // each element's vertices (PlateBending::Element)
-  std::vector<PlateBending::PairUse> uses_;
-  std::vector<int> useBegin_;  // pair p's uses: [useBegin_[p], useBegin_[p + 1])
   // Each element's unknowns (three per vertex, then its edge unknowns, −1 where prescribed) and
   // the value-array positions of its local pairs i ≤ j, flattened.
   std::vector<int> unknowns_, unknownBegin_, slots_, slotBegin_;
