@@ -324,8 +324,18 @@ int runIndent(const IndentArgs& a) {
                          " point(s): " + r.message);
   }
   if (!a.quiet) {
-    std::printf("# rest state: %d Newton iterations, relative residual %.2e\n",
-                site.rest.iterations, site.rest.relativeResidual());
+    // A rest state that needed no iteration is the tissue as given (without turgor: its
+    // residual is round-off, and relative to a load scale of nothing but the solver's floor it
+    // read as a poor convergence, 6e-03 at p = 0) or, on the tissue's own mesh, the turgid
+    // state solved before the site was chosen.
+    if (site.rest.converged && site.rest.iterations == 0)
+      std::printf("# rest state: %s (residual %.2e uN)\n",
+                  settings.pressure == 0 ? "in equilibrium as given"
+                                         : "the turgid state of the tissue's own mesh",
+                  site.rest.residual);
+    else
+      std::printf("# rest state: %d Newton iterations, relative residual %.2e\n",
+                  site.rest.iterations, site.rest.relativeResidual());
     for (const auto& c : comments) std::printf("# %s\n", c.c_str());
     std::printf("%10s %12s %6s %10s %s\n", "depth_um", "force_uN", "iters", "residual",
                 "converged");

@@ -215,6 +215,7 @@ struct StaticSolver::Run {
   // After a full step taken with a shifted factor: factorise the exact tangent first
   // (newtonDirection); not again in this solve once that has failed.
   bool tryExact = false, exactFailed = false;
+  double lastResidual = 0;  // at the previous iteration of this solve (0 at the first)
   Points xt, stepPoints;
 };
 
@@ -309,6 +310,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (alpha == 1.0) r.shift *= 0.1;
     if (r.shift < 1e-12 * r.maxDiag) r.shift = 0;
     r.tryExact = alpha == 1.0 && r.shift > 0 && !r.exactFailed;
+    r.lastResidual = rep.residual;
   }
 }
 
@@ -395,9 +397,18 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
            0.25 * chol_.factorFlops());
   if (options_.reuseFactorization && chol_.factored() && r.shift == 0 && !factorDrifted) {
     // Inexact Newton: solve just accurately enough for this step to reach the tolerance
-    // (a tenth of the remaining reduction), never looser than pcgTolerance.
+    // (a tenth of the remaining reduction), never looser than pcgTolerance. But while the
+    // residual falls slowly (less than tenfold in the last iteration: far from the quadratic
+    // regime, as in the first steps of a refined rest state) no step reaches the tolerance
+    // whatever the linear accuracy, and that rule asked for 1e-8 where pcgTolerance does as
+    // well: CG ran out of iterations and a factorisation followed, at every site pick. There
+    // pcgTolerance is used, as Eisenstat and Walker's forcing term would ("Choosing the forcing
+    // terms in an inexact Newton method", SIAM J. Sci. Comput. 17, 1996: η_k = 0.9 (‖g_k‖ /
+    // ‖g_k−1‖)², above 0.009 for such a fall, capped here).
     const double target = std::max(options_.tolerance * r.rep.loadScale, r.noiseFloor);
-    const double eta = std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
+    const bool slow = r.lastResidual > 0 && r.rep.residual > 0.1 * r.lastResidual;
+    const double eta = slow ? options_.pcgTolerance
+                            : std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
     int its = 0;
     const auto tick = Clock::now();
     solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its, options_.maxPcgIterations) &&

@@ -17,6 +17,8 @@
 #include "support/SharedData.h"
 
 using testing::HasSubstr;
+using testing::ContainsRegex;
+using testing::Not;
 
 namespace {
 
@@ -110,6 +112,27 @@ TEST(Cli, DepthControlWritesCsvAndVtu) {
   text << in.rdbuf();
   EXPECT_THAT(text.str(), HasSubstr("von_mises_MPa"));
   EXPECT_THAT(text.str(), HasSubstr("displacement_um"));
+}
+
+// The rest state's line: a tissue without turgor is in equilibrium as given, and says so with
+// its residual (it printed a relative residual of 6e-03, against a load scale of nothing but the
+// solver's floor, which read as a poor convergence); turgid on the tissue's own mesh it is the
+// turgid state solved first; refined, the Newton iterations its solve took.
+TEST(Cli, RestStateLineSaysWhatWasSolved) {
+  const CliRun plasmolysed =
+      cli("indent --mesh " + smallTissue() + " --pressure 0 --refine 0 --depth 0.05 --steps 1");
+  ASSERT_EQ(plasmolysed.status, 0) << plasmolysed.output;
+  EXPECT_THAT(plasmolysed.output, HasSubstr("# rest state: in equilibrium as given (residual "));
+  EXPECT_THAT(plasmolysed.output, Not(HasSubstr("relative residual")));
+  const CliRun own =
+      cli("indent --mesh " + smallTissue() + " --pressure 0.8 --refine 0 --depth 0.05 --steps 1");
+  ASSERT_EQ(own.status, 0) << own.output;
+  EXPECT_THAT(own.output, HasSubstr("# rest state: the turgid state of the tissue's own mesh"));
+  const CliRun refined =
+      cli("indent --mesh " + smallTissue() + " --pressure 0.8 --refine 1 --depth 0.05 --steps 1");
+  ASSERT_EQ(refined.status, 0) << refined.output;
+  EXPECT_THAT(refined.output,
+              ContainsRegex("# rest state: [1-9][0-9]* Newton iterations, relative residual"));
 }
 
 TEST(Cli, ForceControlAndUnloading) {
