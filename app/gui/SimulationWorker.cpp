@@ -140,9 +140,13 @@ void SimulationWorker::requestDepth(double depth) {
   enqueue(Depth{depth});
 }
 
+std::uint64_t SimulationWorker::cancelsSoFar() {
+  std::lock_guard lock(mutex_);
+  return cancels_;
+}
+
 void SimulationWorker::requestRun(const Schedule& schedule) {
-  stop_ = false;  // here, not when the run starts: a Cancel right after the request counts
-  enqueue(Run{schedule});
+  enqueue(Run{schedule, cancelsSoFar()});  // a Cancel after this request stops the run
 }
 
 void SimulationWorker::requestExportVtu(const QString& path) {
@@ -151,8 +155,7 @@ void SimulationWorker::requestExportVtu(const QString& path) {
 
 void SimulationWorker::requestFit(const tp::FitSettings& settings,
                                   const std::vector<tp::FitCurve>& curves) {
-  stop_ = false;  // as for a run: a Cancel right after the request counts
-  enqueue(Fit{settings, curves});
+  enqueue(Fit{settings, curves, cancelsSoFar()});  // as for a run
 }
 
 void SimulationWorker::stop() {
@@ -181,10 +184,7 @@ void SimulationWorker::enqueue(Request r) {
     }
     // The task in hand gives way if this request may stop it (an interruption, not a Cancel:
     // the next task must not inherit it).
-    if (interruptibleBy_ & (1 << queue_.back().index())) {
-      stop_ = true;
-      interrupted_ = true;
-    }
+    if (interruptibleBy_ & (1 << queue_.back().index())) stop_ = true;
     post = !scheduled_;
     scheduled_ = true;
   }
@@ -213,12 +213,13 @@ void SimulationWorker::processNext() {
                              ? kLoadBit | kPrepareBit
                          : std::holds_alternative<EstimateLive>(*r) ? kAnything
                                                                     : 0;
-      // A Cancel of a run not started yet still counts (requestRun cleared the flag before);
-      // anything else starts afresh, and so does a run after an interrupted task (an error
-      // estimate interrupted by this very run request had set the flag after requestRun).
-      if ((!std::holds_alternative<Run>(*r) && !std::holds_alternative<Fit>(*r)) || interrupted_)
-        stop_ = false;
-      interrupted_ = false;
+      // A run or fit starts stopped if Cancel was pressed since its request (even while other
+      // tasks ran in between: clearing the flag for them lost such a Cancel, a flaky
+      // ControllerTest); anything else starts afresh, interruptions included.
+      std::uint64_t asked = cancels_;
+      if (const auto* run = std::get_if<Run>(&*r)) asked = run->cancelsAtRequest;
+      if (const auto* fit = std::get_if<Fit>(&*r)) asked = fit->cancelsAtRequest;
+      stop_ = asked != cancels_;
     }
   }
   if (r && !stopping_) {

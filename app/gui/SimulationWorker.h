@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <atomic>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -71,8 +72,8 @@ class SimulationWorker : public QObject {
   /// Stops a running curve (within one Newton iteration).
   void cancel() {
     std::lock_guard lock(mutex_);
+    ++cancels_;  // a run or fit requested before this and not started yet sees it when it starts
     stop_ = true;
-    interrupted_ = false;  // a Cancel, not an interruption: a run about to start still sees it
   }
   /// Drops every waiting request and stops what runs; used before the thread quits.
   void stop();
@@ -110,8 +111,11 @@ class SimulationWorker : public QObject {
   struct Depth {
     double depth;
   };
+  // Runs and fits carry the count of Cancels at their request: one pressed after it stops them
+  // even if it came before they started, whatever ran in between.
   struct Run {
     Schedule schedule;
+    std::uint64_t cancelsAtRequest = 0;
   };
   struct ExportVtu {
     QString path;
@@ -122,10 +126,12 @@ class SimulationWorker : public QObject {
   struct Fit {
     tp::FitSettings settings;
     std::vector<tp::FitCurve> curves;
+    std::uint64_t cancelsAtRequest = 0;
   };
   using Request = std::variant<Load, Prepare, Depth, Run, ExportVtu, EstimateLive, Fit>;
 
   void enqueue(Request r);
+  std::uint64_t cancelsSoFar();
   void processNext();
   void handle(const Load& r);
   void handle(const Prepare& r);
@@ -145,7 +151,7 @@ class SimulationWorker : public QObject {
   int interruptibleBy_ = 0;        // what may stop the task in hand (bits of request kinds)
   std::atomic<bool> stop_{false};  // the task in hand stops at its next Newton iteration
   std::atomic<bool> stopping_{false};
-  bool interrupted_ = false;  // stop_ was set to interrupt the task in hand (guarded by mutex_)
+  std::uint64_t cancels_ = 0;  // Cancels so far (guarded by mutex_)
 
   // Owned by the worker's thread only.
   struct State;

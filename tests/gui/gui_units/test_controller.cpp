@@ -122,6 +122,43 @@ class ControllerTest : public QObject {
     QCOMPARE(int(c.session().sites.size()), 1);
   }
 
+  // A Cancel pressed while other requests wait ahead of the run (here a depth) still stops the
+  // run when its turn comes: the worker cleared the flag for every task it started that was
+  // not a run, and so lost such a Cancel (ControllerTest::runCancelAndParameters failed now
+  // and then under load, when a request was still queued).
+  void cancelCountsWhenOtherRequestsWaitAhead() {
+    SimulationController c;
+    SimulationParams p;
+    p.youngModulus = 50;
+    p.pressure = 0.2;
+    p.autoMesh = false;
+    p.meshLevel = 0;
+    c.setParams(p);
+    c.loadTissue(tissue_);
+    QTRY_VERIFY_WITH_TIMEOUT(c.prepared(), 60000);
+    waitIdle(c);
+    Schedule s;
+    s.maxDepth = 0.3;
+    s.steps = 60;
+    c.setSchedule(s);
+    for (int k = 0; k < 3; ++k) {
+      c.requestDepth(0.02 * (k + 1));
+      c.runCurve();
+      c.cancelRun();
+      waitIdle(c);
+      QVERIFY2(c.curves().back().points.size() <= 1,
+               qPrintable(QString("attempt %1: %2 points after Cancel")
+                              .arg(k)
+                              .arg(c.curves().back().points.size())));
+    }
+    // And a run requested after the Cancel is not stopped by it.
+    s.steps = 2;
+    c.setSchedule(s);
+    c.runCurve();
+    waitIdle(c);
+    QCOMPARE(int(c.curves().back().points.size()), 3);
+  }
+
   void automaticMeshRunsUntilTheErrorIsWithinTolerance() {
     SimulationController c;
     SimulationParams p;
