@@ -32,6 +32,11 @@ heavy+='|Cli\.DeepIndentation|Cli\.ReferenceSolverGives|Cli\.RefinementAtTheSite
 # The fits take ~60 s each under the sanitizers (45 times Release): one full fit
 # (Fit.TurgidAndPlasmolysed...) and every sensitivity test still run here.
 heavy+='|Fit\.NoisyCurves|Fit\.ATurgidCurveAlone|Cli\.FitReadsBackTheModulus'
+# 33-60 s each under the sanitizers (CI took 1958 s on 2026-12-04 with them, over its 30 minutes):
+# the CG tangent solve on a refined tissue (the same CG is reached by every Newton solve here, the
+# tangent solve by the other sensitivity tests) and the CLI's rest-state line (three whole runs
+# with their error estimates; the CLI's run is reached by Cli.CtrlC* and the closed forms).
+heavy+='|ForceSensitivity\.RefinedTissueSolvedByConjugateGradients|Cli\.RestStateLine'
 # Maps: 30-130 s each under the sanitizers (35 times Release); the map code (workers, result
 # files, resume, cancel, refusals, the table) is still reached by MapRun.Another* and MapRun.ASweep*.
 heavy+='|MapRun\.WorkersShards|MapRun\.EachTask|Cli\.CtrlCStopsAMap|Cli\.MapShards'
