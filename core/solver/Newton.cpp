@@ -306,6 +306,10 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
       return fail(r, "no step keeps the probe clear of the walls (contact would be lost)");
     const double alpha = lineSearch(r, ds, slope, alphaMax);
     if (!(alpha > 0)) return fail(r, "line search failed to decrease the energy");
+    if (options_.verbose)
+      std::fprintf(stderr, "  newton step  alpha=%.3g  (at most %.3g)  |ds|=%.3g  contact %s\n",
+                   alpha, alphaMax, std::abs(ds),
+                   ev_.contactProjected ? "projected" : "exact");
     // A shift that worked is tried smaller next time; full steps suggest it is not needed.
     if (alpha == 1.0) r.shift *= 0.1;
     if (r.shift < 1e-12 * r.maxDiag) r.shift = 0;
