@@ -216,6 +216,7 @@ struct StaticSolver::Run {
   // (newtonDirection); not again in this solve once that has failed.
   bool tryExact = false, exactFailed = false;
   double lastResidual = 0;  // at the previous iteration of this solve (0 at the first)
+  const char* direction = "";  // how the last direction was found (verbose output)
   Points xt, stepPoints;
 };
 
@@ -307,9 +308,8 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     const double alpha = lineSearch(r, ds, slope, alphaMax);
     if (!(alpha > 0)) return fail(r, "line search failed to decrease the energy");
     if (options_.verbose)
-      std::fprintf(stderr, "  newton step  alpha=%.3g  (at most %.3g)  |ds|=%.3g  contact %s\n",
-                   alpha, alphaMax, std::abs(ds),
-                   ev_.contactProjected ? "projected" : "exact");
+      std::fprintf(stderr, "  newton step  alpha=%.3g  (at most %.3g)  |ds|=%.3g  %s\n", alpha,
+                   alphaMax, std::abs(ds), r.direction);
     // A shift that worked is tried smaller next time; full steps suggest it is not needed.
     if (alpha == 1.0) r.shift *= 0.1;
     if (r.shift < 1e-12 * r.maxDiag) r.shift = 0;
@@ -457,6 +457,8 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     if (r.fc) chol_.solve(r.b, r.z2);
     totals_.factorSeconds += seconds(tick);
   }
+  r.direction = solved ? (ev_.contactProjected ? "CG, contact projected" : "CG")
+                       : (ev_.contactProjected ? "factor, contact projected" : "factor");
   r.dx = -r.dx;
   return true;
 }
