@@ -102,8 +102,9 @@ struct Reference {
 // The force at the end depth on the mesh `site` (`force`, its curve's last point), and on it
 // halved once and twice in the zone of its refinement, extrapolated with the observed order.
 // Each halved mesh starts from the equilibria of the one before it carried onto its midpoints
-// (nested iteration): the twice-halved mesh of a 3 µm probe (109k vertices) then needs 4-5
-// Newton iterations where the coarse mesh's dimple carried over two levels needed ten.
+// (nested iteration): the twice-halved mesh of a 3 µm probe (106k vertices) then needs 7 Newton
+// iterations and 2 factorisations where the coarse mesh's dimple carried over two levels
+// needed 10 and 5.
 Reference reference(const Experiment& e, const PreparedSite& site, const Points& endState,
                     double force) {
   const ExperimentSettings& s = e.settings();
