@@ -37,6 +37,9 @@ heavy+='|Fit\.NoisyCurves|Fit\.ATurgidCurveAlone|Cli\.FitReadsBackTheModulus'
 # tangent solve by the other sensitivity tests) and the CLI's rest-state line (three whole runs
 # with their error estimates; the CLI's run is reached by Cli.CtrlC* and the closed forms).
 heavy+='|ForceSensitivity\.RefinedTissueSolvedByConjugateGradients|Cli\.RestStateLine'
+# A second whole fit (34-38 s under the sanitizers, CI of 2026-12-04 evening); one whole fit,
+# Fit.TurgidAndPlasmolysed..., still runs here.
+heavy+='|Fit\.FactoringOutTheModulus'
 # Maps: 30-130 s each under the sanitizers (35 times Release); the map code (workers, result
 # files, resume, cancel, refusals, the table) is still reached by MapRun.Another* and MapRun.ASweep*.
 heavy+='|MapRun\.WorkersShards|MapRun\.EachTask|Cli\.CtrlCStopsAMap|Cli\.MapShards'
