@@ -173,10 +173,10 @@ void checkSite(const char* name, const Vec3& restSite, double pressure, double p
   ASSERT_TRUE(r.complete) << r.message;
   ASSERT_TRUE(r.error.estimated());
   const double F = r.curve.back().force;
-  std::printf("  [%5.1f s] %s, p = %.1f MPa, probe radius %.2f um: default level %d (%d vertices), "
-              "F(0.5 um) = %.6g uN, reported error %.2f %%\n",
-              elapsed(), name, pressure, probeRadius, r.site->level, r.site->complex->vertexCount(), F,
-              100 * r.error.relative);
+  std::printf("  [%5.1f s] %s, p = %.1f MPa, probe radius %.2f um: default level %d "
+              "(%d vertices), F(0.5 um) = %.6g uN, reported error %.2f %%\n",
+              elapsed(), name, pressure, probeRadius, r.site->level,
+              r.site->complex->vertexCount(), F, 100 * r.error.relative);
   // The reference sequence starts one level coarser than the default: that mesh halved twice
   // has everywhere half the triangle size of the default mesh (each level halves the target
   // size everywhere in the zone), at a quarter of the cost of halving the default mesh twice.
