@@ -52,14 +52,14 @@ Vec3 closestOnSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
   return a + s * ab;
 }
 
-std::string number(double v) {
+std::string shortNumber(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
 
 // A table cell: %.6g, empty for NaN (not computed).
-std::string cell(double v) { return std::isfinite(v) ? number(v) : std::string(); }
+std::string cell(double v) { return std::isfinite(v) ? shortNumber(v) : std::string(); }
 
 // A CSV field: quoted when it holds a comma, quote or line break.
 std::string csvField(const std::string& s) {
@@ -312,7 +312,7 @@ std::vector<MapSite> junctionSites(const CellComplex& cc) {
 std::vector<MapSite> gridSites(const CellComplex& cc, double spacing) {
   if (!(spacing > 0) || !std::isfinite(spacing))
     throw std::invalid_argument("the grid spacing must be a positive number of um (got " +
-                                number(spacing) + ")");
+                                shortNumber(spacing) + ")");
   std::vector<int> up;  // free outer triangles facing upwards
   Eigen::AlignedBox2d box;
   for (int t = 0; t < cc.triangleCount(); ++t) {
@@ -333,7 +333,7 @@ std::vector<MapSite> gridSites(const CellComplex& cc, double spacing) {
   const int nx = static_cast<int>(std::floor(0.5 * box.sizes().x() / spacing));
   const int ny = static_cast<int>(std::floor(0.5 * box.sizes().y() / spacing));
   if (static_cast<double>(2 * nx + 1) * (2 * ny + 1) > 1e6)
-    throw std::invalid_argument("a grid spacing of " + number(spacing) + " um gives over a million "
+    throw std::invalid_argument("a grid spacing of " + shortNumber(spacing) + " um gives over a million "
                                 "grid points on this tissue: choose a larger spacing");
   for (int j = -ny; j <= ny; ++j)
     for (int i = -nx; i <= nx; ++i) {
@@ -398,7 +398,7 @@ std::vector<MapSite> readSiteList(const std::string& path) {
                                std::to_string(v.size()) + " number(s)");
     for (double x : v)
       if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": '" + number(x) +
+        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": '" + shortNumber(x) +
                                  "' is not a coordinate (finite, at most 1e6 um)");
     sites.push_back({SiteKind::Listed, "line " + std::to_string(lineNo), Vec3(v[0], v[1], v[2])});
   }
@@ -423,8 +423,8 @@ void checkSitesNearSurface(const CellComplex& cc, const std::vector<MapSite>& si
     if (!(best <= cell)) {
       std::ostringstream o;
       o << source << " " << s.label << ": the site (" << s.point.x() << ", " << s.point.y() << ", "
-        << s.point.z() << ") um is " << number(best) << " um from the tissue's free outer surface, "
-        << "more than a cell (" << number(cell) << " um)";
+        << s.point.z() << ") um is " << shortNumber(best) << " um from the tissue's free outer surface, "
+        << "more than a cell (" << shortNumber(cell) << " um)";
       throw std::invalid_argument(o.str());
     }
   }
@@ -533,8 +533,8 @@ void MapPlan::checkSize() const {
   double n = static_cast<double>(sites.size());
   for (const auto& v : vary) n *= static_cast<double>(v.values.size());
   if (n > kMaxTasks)
-    throw std::invalid_argument("the plan has " + number(n) + " tasks (sites x parameter sets), " +
-                                "more than " + number(kMaxTasks) + ": vary fewer values or sites");
+    throw std::invalid_argument("the plan has " + shortNumber(n) + " tasks (sites x parameter sets), " +
+                                "more than " + shortNumber(kMaxTasks) + ": vary fewer values or sites");
 }
 
 int MapPlan::parameterSets() const {
@@ -748,12 +748,12 @@ std::string mapTable(const MapPlan& plan, const std::vector<TaskResult>& results
     const MapSite& s = plan.site(r.task);
     o << r.task << "," << r.task % plan.sites.size() << "," << toString(s.kind) << ","
       << csvField(s.label);
-    for (double v : plan.values(r.task)) o << "," << number(v);
-    o << "," << number(s.point.x()) << "," << number(s.point.y()) << "," << number(s.point.z())
+    for (double v : plan.values(r.task)) o << "," << shortNumber(v);
+    o << "," << shortNumber(s.point.x()) << "," << shortNumber(s.point.y()) << "," << shortNumber(s.point.z())
       << "," << cell(r.contact.x()) << "," << cell(r.contact.y()) << "," << cell(r.contact.z())
       << "," << cell(r.depth) << "," << cell(r.force) << "," << cell(r.secant) << ","
       << cell(r.tangent) << "," << cell(r.hertz) << "," << (r.level >= 0 ? std::to_string(r.level) : "")
-      << "," << (r.meshError >= 0 ? number(r.meshError) : "") << "," << r.status << ","
+      << "," << (r.meshError >= 0 ? shortNumber(r.meshError) : "") << "," << r.status << ","
       << csvField(r.message) << "\n";
   }
   return o.str();

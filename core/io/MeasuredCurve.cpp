@@ -21,7 +21,7 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string trim(std::string_view s) {
+std::string trimmed(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
@@ -40,13 +40,13 @@ std::vector<std::string> split(const std::string& line, char delimiter) {
   std::string field;
   for (char c : line) {
     if (c == delimiter) {
-      out.push_back(trim(field));
+      out.push_back(trimmed(field));
       field.clear();
     } else {
       field += c;
     }
   }
-  out.push_back(trim(field));
+  out.push_back(trimmed(field));
   return out;
 }
 
@@ -62,12 +62,12 @@ std::string unitOf(const std::string& header) {
   const auto open = header.find_first_of("([");
   if (open != std::string::npos) {
     const auto close = header.find_first_of(")]", open);
-    if (close != std::string::npos) return trim(header.substr(open + 1, close - open - 1));
+    if (close != std::string::npos) return trimmed(header.substr(open + 1, close - open - 1));
   }
   // After '_', '/' or a space only a known unit counts ("indentation depth" has none).
   const auto sep = header.find_last_of("_/ ");
   if (sep == std::string::npos) return {};
-  const std::string u = trim(header.substr(sep + 1));
+  const std::string u = trimmed(header.substr(sep + 1));
   return lengthUnitInMicrometres(u) > 0 || forceUnitInMicronewtons(u) > 0 ? u : std::string();
 }
 
@@ -78,7 +78,7 @@ std::string bareName(const std::string& header) {
     const auto sep = header.find_last_of("_/ ");
     if (sep != std::string::npos) n = header.substr(0, sep);
   }
-  return lower(trim(n));
+  return lower(trimmed(n));
 }
 
 }  // namespace
@@ -112,7 +112,7 @@ MeasuredCurve parseMeasuredCurve(const std::string& text, const std::string& nam
     std::string line;
     for (int n = 1; std::getline(in, line); ++n) {
       if (!line.empty() && line.back() == '\r') line.pop_back();
-      const std::string t = trim(line);
+      const std::string t = trimmed(line);
       if (t.empty() || t[0] == '#') continue;
       rows.emplace_back(n, line);
     }

@@ -23,7 +23,7 @@ namespace tp {
 
 namespace {
 
-using ply::quoted;
+using ply::excerpt;
 
 template <class Int>
 std::string str(Int v) {
@@ -210,7 +210,7 @@ void TissueReader::findVolumes(PlyInfo& info) {
   for (int k = 0; k <= last; ++k)
     if (!e.properties[k].knownType()) {
       info.notes.push_back("element 'volume': property '" + e.properties[k].name + "' has type " +
-                           quoted(e.properties[k].typeText) +
+                           excerpt(e.properties[k].typeText) +
                            ", not a PLY type, so the cells' faces cannot be read");
       return;
     }

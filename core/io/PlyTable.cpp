@@ -121,7 +121,7 @@ std::string str(double v) {  // shortest form that reads back exactly
 
 // A piece of file content for a message: at most 40 characters, control bytes escaped, because
 // the "text" may be binary garbage.
-std::string quoted(std::string_view s) {
+std::string excerpt(std::string_view s) {
   std::string out = "'";
   for (std::size_t i = 0; i < s.size() && i < 40; ++i) {
     const auto c = static_cast<unsigned char>(s[i]);
@@ -198,7 +198,7 @@ void TableReader::parseHeader() {
   std::string_view line;
   nextLine(line);
   if (trim(line) != "ply")
-    fail("not a PLY file: the first line is " + quoted(line) + ", expected 'ply'");
+    fail("not a PLY file: the first line is " + excerpt(line) + ", expected 'ply'");
   bool haveFormat = false, ended = false;
   std::vector<std::string_view> w;
   while (!ended && nextLine(line)) {
@@ -214,15 +214,15 @@ void TableReader::parseHeader() {
       else if (w[1] == "binary_big_endian")
         format_ = Format::BinaryBig;
       else
-        fail(at + "unsupported format " + quoted(w[1]) +
+        fail(at + "unsupported format " + excerpt(w[1]) +
              " (expected ascii, binary_little_endian or binary_big_endian)");
       formatName_ = std::string(w[1]);
       haveFormat = true;
     } else if (w[0] == "element") {
       long long count = 0;
-      if (w.size() != 3) fail(at + "expected 'element NAME COUNT', found " + quoted(line));
+      if (w.size() != 3) fail(at + "expected 'element NAME COUNT', found " + excerpt(line));
       if (!parseInteger(w[2], count) || count < 0)
-        fail(at + "element count " + quoted(w[2]) + " is not a non-negative integer");
+        fail(at + "element count " + excerpt(w[2]) + " is not a non-negative integer");
       for (const Element& e : elements_)
         if (e.name == w[1]) fail(at + "element '" + e.name + "' is declared twice");
       elements_.push_back(Element{std::string(w[1]), static_cast<std::uint64_t>(count), {}, line_});
@@ -238,7 +238,7 @@ void TableReader::parseHeader() {
         p.type = scalarFromName(w[3]);
         p.typeText = "list " + std::string(w[2]) + " " + std::string(w[3]);
         if (p.countType == Scalar::Float32 || p.countType == Scalar::Float64)
-          fail(at + "a list count type must be an integer type, not " + quoted(w[2]));
+          fail(at + "a list count type must be an integer type, not " + excerpt(w[2]));
         nameWord = 4;
       } else {
         if (w.size() < 3) fail(at + "expected 'property TYPE NAME'");
@@ -251,7 +251,7 @@ void TableReader::parseHeader() {
     } else if (w[0] == "end_header") {
       ended = true;
     } else {
-      fail(at + "unexpected header line " + quoted(line));
+      fail(at + "unexpected header line " + excerpt(line));
     }
   }
   if (!ended) fail("the header has no 'end_header' line (truncated, or not a PLY file)");
@@ -269,14 +269,14 @@ void TableReader::checkReadable(int e, const std::vector<char>& wanted) const {
       firstUnknown = k;
       if (format_ != Format::Ascii)
         fail("property '" + p.name + "' of element '" + el.name + "' has type " +
-             quoted(p.typeText) + ", which is not a PLY type; a binary file cannot be read");
+             excerpt(p.typeText) + ", which is not a PLY type; a binary file cannot be read");
     }
     if (firstUnknown >= 0 && wanted[k])
       fail("property '" + p.name + "' of element '" + el.name + "' cannot be read: " +
            (k == firstUnknown
-                ? "its type " + quoted(p.typeText) + " is not a PLY type"
+                ? "its type " + excerpt(p.typeText) + " is not a PLY type"
                 : "it follows property '" + el.properties[firstUnknown].name +
-                      "' of unknown type " + quoted(el.properties[firstUnknown].typeText)));
+                      "' of unknown type " + excerpt(el.properties[firstUnknown].typeText)));
   }
 }
 
@@ -377,7 +377,7 @@ double TableReader::value(const Property& p, Scalar t, bool needed) {
   if (isInteger(t)) {
     long long v = 0;
     if (!parseInteger(tok, v))
-      failAt(quoted(tok) + " is not an integer (property '" + p.name + "' of element '" +
+      failAt(excerpt(tok) + " is not an integer (property '" + p.name + "' of element '" +
              elem_->name + "')");
     const auto [lo, hi] = integerRange(t);
     if (v < lo || v > hi)
@@ -386,7 +386,7 @@ double TableReader::value(const Property& p, Scalar t, bool needed) {
   }
   double v = 0;
   if (!parseReal(tok, v))
-    failAt(quoted(tok) + " is not a number (property '" + p.name + "' of element '" + elem_->name +
+    failAt(excerpt(tok) + " is not a number (property '" + p.name + "' of element '" + elem_->name +
            "')");
   return v;
 }

@@ -128,7 +128,7 @@ class TableReader {
 
 // Helpers shared with the tissue interpretation.
 /// A piece of file content for a message: at most 40 characters, control bytes escaped.
-std::string quoted(std::string_view s);
+std::string excerpt(std::string_view s);
 /// Shortest text that reads back as the same double.
 std::string numberText(double v);
 
