@@ -52,6 +52,15 @@ SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
 /// of elements given by the lists of their unknowns (−1: a prescribed component, skipped).
 SparsePattern buildPatternFromUnknowns(int n, const std::vector<std::span<const int>>& elements);
 
+/// The value-array positions of every element's upper-triangle entries, elements given as lists
+/// of unknowns (the list of element e is unknowns[begin[e], begin[e+1]), −1: none): for element
+/// e of m unknowns, positions[slotBegin[e] + i·m − i(i−1)/2 + (j − i)] is the position of
+/// (min(u_i, u_j), max(u_i, u_j)) for i ≤ j, or −1 when u_i or u_j is −1. Throws
+/// std::logic_error if an entry is not in the pattern.
+void elementPositions(const SparsePattern& pattern, std::span<const int> unknowns,
+                      std::span<const int> begin, std::vector<int>& slotBegin,
+                      std::vector<int>& positions);
+
 /// For every element of one kind (arity N vertices), the value-array position of each local
 /// entry (i, j) of its 3N×3N Hessian, or −1 when the entry is skipped (a fixed component, or the
 /// lower-triangle twin of a stored entry). Every stored entry is hit exactly once per element.

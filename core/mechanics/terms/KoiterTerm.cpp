@@ -55,24 +55,7 @@ class KoiterTerm final : public EnergyTerm {
   void bind(const MeshLayout& layout, int) override {
     const SparsePattern& pattern = *layout.pattern;
     pairSlots_ = SlotTable(pattern, *layout.dofs, 4, pairVerts_);  // a pair lies inside its elements
-    slots_.clear();
-    slotBegin_.assign(1, 0);
-    const int T = cc_.triangleCount();
-    for (int t = 0; t < T; ++t) {
-      const int* u = unknowns_.data() + unknownBegin_[t];
-      const int m = unknownBegin_[t + 1] - unknownBegin_[t];
-      for (int i = 0; i < m; ++i)
-        for (int j = i; j < m; ++j) {
-          if (u[i] < 0 || u[j] < 0) {
-            slots_.push_back(-1);
-            continue;
-          }
-          const int pos = pattern.find(std::min(u[i], u[j]), std::max(u[i], u[j]));
-          if (pos < 0) throw std::logic_error("Koiter element entry missing from the pattern");
-          slots_.push_back(pos);
-        }
-      slotBegin_.push_back(static_cast<int>(slots_.size()));
-    }
+    elementPositions(pattern, unknowns_, unknownBegin_, slotBegin_, slots_);
   }
 
   // Five passes, every thread of the model's parallel region taking part: (1) each pair's
