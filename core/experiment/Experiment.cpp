@@ -357,18 +357,9 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
   return site;
 }
 
-double Experiment::endValue(int level, const Monitor& monitor, const Seed* seed) {
-  const auto known = endValues_.find(level);
-  if (known != endValues_.end()) {
-    if (!std::isfinite(known->second))
-      throw SolveFailure("level " + std::to_string(level) + " failed before");
-    return known->second;
-  }
-  auto site = prepareSite(level, monitor, seed);
-  std::ostringstream what;
-  what << "Estimating the mesh error: level " << level << "…";
-  monitor.say(what.str());
-  Indentation& ind = *site->indentation;
+CurvePoint Experiment::solveEndPoint(PreparedSite& site, const Monitor& monitor,
+                                     const Seed* seed) {
+  Indentation& ind = *site.indentation;
   const IndentationSettings& s = ind.settings();
   const bool force = s.control == Control::Force;
   const double top = force ? s.maxForce : s.maxDepth;
@@ -378,7 +369,7 @@ double Experiment::endValue(int level, const Monitor& monitor, const Seed* seed)
     // Straight to the end point: this level's rest state plus the seed's displacement from
     // its own rest state there (its dimple), carried over.
     const Points dimple = transferPositions(*tissue_, *seed->mesh, seed->end - seed->rest,
-                                            *site->mesh);
+                                            *site.mesh);
     pt = ind.solveFrom(top, force, ind.turgidState() + dimple, seed->travel);
   }
   if (!pt.converged) {  // no seed, or a seed too far off: step there
@@ -390,9 +381,25 @@ double Experiment::endValue(int level, const Monitor& monitor, const Seed* seed)
   }
   ind.solver().setCancelFlag(nullptr);
   checkCancel(monitor);
+  return pt;
+}
+
+double Experiment::endValue(int level, const Monitor& monitor, const Seed* seed) {
+  const auto known = endValues_.find(level);
+  if (known != endValues_.end()) {
+    if (!std::isfinite(known->second))
+      throw SolveFailure("level " + std::to_string(level) + " failed before");
+    return known->second;
+  }
+  auto site = prepareSite(level, monitor, seed);
+  std::ostringstream what;
+  what << "Estimating the mesh error: level " << level << "…";
+  monitor.say(what.str());
+  const CurvePoint pt = solveEndPoint(*site, monitor, seed);
   if (!pt.converged)
     throw SolveFailure("level " + std::to_string(level) + " (mesh error estimate): " +
-                       ind.lastMessage());
+                       site->indentation->lastMessage());
+  const bool force = site->indentation->settings().control == Control::Force;
   const double value = force ? pt.depth : pt.force;
   endValues_[level] = value;
   if (keepEstimated_) estimated_ = std::move(site);

@@ -158,6 +158,14 @@ class Experiment {
   std::unique_ptr<PreparedSite> prepareSite(int level, const Monitor& monitor = {},
                                             const Seed* seed = nullptr);
 
+  /// The end point of the schedule (the deepest depth, or the largest force) on a prepared
+  /// site: straight there from the site's rest state plus the seed's dimple (its end state
+  /// less its rest state) carried onto this mesh, when the seed has an end state; otherwise, or
+  /// if that solve fails, in up to four steps of the schedule. The point is returned converged
+  /// or not (the site's indentation says why); throws Cancelled.
+  CurvePoint solveEndPoint(PreparedSite& site, const Monitor& monitor = {},
+                           const Seed* seed = nullptr);
+
   /// The end value of the schedule at a level: the force at the deepest point (depth control)
   /// or the depth at the largest force (force control), from a short run (at most 4 steps),
   /// remembered per level. Throws SolveFailure or Cancelled.

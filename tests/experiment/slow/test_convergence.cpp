@@ -180,17 +180,14 @@ void checkSite(const char* name, const Vec3& restSite, double pressure, double p
   // The reference sequence starts one level coarser than the default: that mesh halved twice
   // has everywhere half the triangle size of the default mesh (each level halves the target
   // size everywhere in the zone), at a quarter of the cost of halving the default mesh twice.
-  // Its end state starts from the default mesh's, carried over (as the automatic mesh carries
-  // one level's solution to the next), instead of walking the schedule again.
+  // Its end state starts from the default mesh's, carried over (Experiment::solveEndPoint, as
+  // the automatic mesh's error estimate carries one level's solution to the next), instead of
+  // walking the schedule again.
   Seed seed{r.site->mesh, r.site->indentation->turgidState(), r.site->indentation->state(),
             s.indentation.maxDepth};
   const auto coarser = e.prepareSite(std::max(1, r.site->level - 1), {}, &seed);
   Indentation& ind = *coarser->indentation;
-  const Points dimple = transferPositions(*defaultMeristem(), *seed.mesh, seed.end - seed.rest,
-                                          *coarser->mesh);
-  CurvePoint end = ind.solveFrom(s.indentation.maxDepth, false, ind.turgidState() + dimple,
-                                 s.indentation.maxDepth);
-  if (!end.converged) end = ind.run().back();
+  const CurvePoint end = e.solveEndPoint(*coarser, {}, &seed);
   ASSERT_TRUE(end.converged) << ind.lastMessage();
   ASSERT_NEAR(end.depth, s.indentation.maxDepth, 1e-12);
   std::printf("    [%5.1f s] level %d at the end depth\n", elapsed(), coarser->level);
