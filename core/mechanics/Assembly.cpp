@@ -102,11 +102,16 @@ SparsePattern buildPattern(const DofMap& dofs, int vertexCount,
 
 namespace {
 
-// Which elements hold each unknown: for unknown c, the entries inc[start[c], start[c+1]) are the
-// positions k in the flattened lists with lists[k] == c (a counting sort of the lists).
+// Which elements hold each unknown: elements given as lists of unknowns (the list of element e
+// is flat[begin[e], begin[e+1]), −1: none); for unknown c, the entries inc[start[c], start[c+1])
+// are the positions k in flat with flat[k] == c (a counting sort), and elementOf[k] is the
+// element position k belongs to.
 struct Incidence {
-  std::vector<int> start, inc;
-  Incidence(int n, std::span<const int> flat) : start(n + 2, 0) {
+  std::vector<int> start, inc, elementOf;
+  Incidence(int n, std::span<const int> flat, std::span<const int> begin)
+      : start(n + 2, 0), elementOf(flat.size()) {
+    for (size_t e = 0; e + 1 < begin.size(); ++e)
+      std::fill(elementOf.begin() + begin[e], elementOf.begin() + begin[e + 1], static_cast<int>(e));
     for (int a : flat)
       if (a >= 0) ++start[a + 2];
     for (int c = 0; c < n; ++c) start[c + 2] += start[c + 1];
@@ -116,6 +121,10 @@ struct Incidence {
   }
 };
 
+// Index of the local entry (i, j), i ≤ j, of an m-unknown element in its upper triangle stored
+// row by row.
+inline int upperIndex(int i, int j, int m) { return i * m - i * (i - 1) / 2 + (j - i); }
+
 }  // namespace
 
 // Column by column: the rows ≤ c of every element holding c, deduplicated with a marker array
@@ -123,15 +132,12 @@ struct Incidence {
 // element entries (a vector per column filled by push_back cost 0.18 s for the 1.7M entries of
 // the real flower at level 3, more than the factorisation's symbolic analysis).
 SparsePattern buildPatternFromUnknowns(int n, const std::vector<std::span<const int>>& elements) {
-  std::vector<int> flat, elementOf, begin{0};
+  std::vector<int> flat, begin{0};
   for (const auto& u : elements) {
     flat.insert(flat.end(), u.begin(), u.end());
     begin.push_back(static_cast<int>(flat.size()));
   }
-  elementOf.resize(flat.size());
-  for (int e = 0; e + 1 < static_cast<int>(begin.size()); ++e)
-    std::fill(elementOf.begin() + begin[e], elementOf.begin() + begin[e + 1], e);
-  const Incidence incidence(n, flat);
+  const Incidence incidence(n, flat, begin);
   SparsePattern p;
   p.n = n;
   p.colPtr.assign(n + 1, 0);
@@ -140,7 +146,7 @@ SparsePattern buildPatternFromUnknowns(int n, const std::vector<std::span<const 
     rows.assign(1, c);
     mark[c] = c;
     for (int q = incidence.start[c]; q < incidence.start[c + 1]; ++q) {
-      const int e = elementOf[incidence.inc[q]];
+      const int e = incidence.elementOf[incidence.inc[q]];
       for (int k = begin[e]; k < begin[e + 1]; ++k) {
         const int a = flat[k];
         if (a >= 0 && a < c && mark[a] != c) {
@@ -161,29 +167,26 @@ void elementPositions(const SparsePattern& pattern, std::span<const int> unknown
                       std::vector<int>& positions) {
   const int E = static_cast<int>(begin.size()) - 1;
   slotBegin.assign(E + 1, 0);
-  std::vector<int> elementOf(unknowns.size());
   for (int e = 0; e < E; ++e) {
     const int m = begin[e + 1] - begin[e];
     slotBegin[e + 1] = slotBegin[e] + m * (m + 1) / 2;
-    std::fill(elementOf.begin() + begin[e], elementOf.begin() + begin[e + 1], e);
   }
   positions.assign(slotBegin[E], -1);
-  const Incidence incidence(pattern.n, unknowns);
+  const Incidence incidence(pattern.n, unknowns, begin);
   // Column c's rows → their positions, in a dense table filled and cleared once per column: each
   // entry (u_i ≤ u_j = c) of an element holding c is then found without a search.
   std::vector<int> where(pattern.n, -1);
   for (int c = 0; c < pattern.n; ++c) {
     for (int q = pattern.colPtr[c]; q < pattern.colPtr[c + 1]; ++q) where[pattern.rowIdx[q]] = q;
     for (int q = incidence.start[c]; q < incidence.start[c + 1]; ++q) {
-      const int k = incidence.inc[q], e = elementOf[k];
+      const int k = incidence.inc[q], e = incidence.elementOf[k];
       const int m = begin[e + 1] - begin[e], j = k - begin[e];
       const int* u = unknowns.data() + begin[e];
       for (int i = 0; i < m; ++i) {
         const int a = u[i];
         if (a < 0 || a > c) continue;  // (a > c: in column a)
         if (where[a] < 0) throw std::logic_error("element entry missing from the pattern");
-        const int lo = std::min(i, j), hi = std::max(i, j);
-        positions[slotBegin[e] + lo * m - lo * (lo - 1) / 2 + (hi - lo)] = where[a];
+        positions[slotBegin[e] + upperIndex(std::min(i, j), std::max(i, j), m)] = where[a];
       }
     }
     for (int q = pattern.colPtr[c]; q < pattern.colPtr[c + 1]; ++q) where[pattern.rowIdx[q]] = -1;
@@ -212,8 +215,7 @@ SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) {
         if (u[i] < 0 || u[j] < 0 || u[i] > u[j]) continue;  // fixed, or the lower-triangle twin
-        const int lo = std::min(i, j), hi = std::max(i, j);
-        s[i * m + j] = up[lo * m - lo * (lo - 1) / 2 + (hi - lo)];
+        s[i * m + j] = up[upperIndex(std::min(i, j), std::max(i, j), m)];
       }
   }
 }
