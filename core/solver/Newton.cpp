@@ -25,15 +25,37 @@ StaticSolver::StaticSolver(Model& model, SolverOptions options)
   if (std::getenv("TP_NEWTON_VERBOSE")) options_.verbose = true;  // debugging aid
 }
 
+// The preconditioner of CG: the lagged single-precision factor, and when the pressed triangles'
+// block of the current tangent is held (local_), a symmetric multiplicative Schwarz step around
+// it — the exact local solve, the lagged factor on what is left, the local solve again
+// (Smith, Bjørstad & Gropp, "Domain Decomposition", 1996, §1.3). The factor misses the stiffness
+// of triangles that entered the contact since it was computed; the local block has it.
+void StaticSolver::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  if (!local_.active()) {
+    chol_.solveSinglePrecision(r, z);
+    return;
+  }
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(r.size());
+  local_.correct(r, w);
+  Eigen::VectorXd t = r;
+  Eigen::VectorXd wl(local_.size());
+  for (int a = 0; a < local_.size(); ++a) wl[a] = w[local_.unknowns()[a]];
+  local_.subtractProduct(wl, t);  // r − A w
+  chol_.solveSinglePrecision(t, z);
+  z += w;
+  local_.correct(r, z);
+}
+
 bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& values,
                        const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, double relTol,
                        int& iterations, int maxIterations) {
   const double target = relTol * rhs.norm();
   sol.setZero(rhs.size());
   Eigen::VectorXd r = rhs, z, p, q;
-  chol_.solveSinglePrecision(r, z);
+  precondition(r, z);
   p = z;
   double rz = r.dot(z);
+  if (!(rz > 0)) return false;  // the preconditioner is not positive definite here
   q.resize(rhs.size());
   for (int k = 0; k < maxIterations; ++k) {
     symmetricMultiply(pattern, values, p.data(), q.data());
@@ -44,8 +66,9 @@ bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& 
     r -= a * q;
     ++iterations;
     if (r.norm() <= target) return true;
-    chol_.solveSinglePrecision(r, z);
+    precondition(r, z);
     const double rzNew = r.dot(z);
+    if (!(rzNew > 0)) return false;
     p = z + (rzNew / rz) * p;
     rz = rzNew;
   }
@@ -216,6 +239,7 @@ struct StaticSolver::Run {
   // (newtonDirection); not again in this solve once that has failed.
   bool tryExact = false, exactFailed = false;
   double lastResidual = 0;  // at the previous iteration of this solve (0 at the first)
+  bool relaxed = false;     // this iteration started with a kept contact relaxation
   const char* direction = "";  // how the last direction was found (verbose output)
   Points xt, stepPoints;
 };
@@ -243,6 +267,7 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   r.dx.resize(r.nAll);
   r.z2.resize(r.nAll);
   r.shift = lastShift_ > 0 ? lastShift_ * 0.1 : 0.0;
+  if (options_.relaxContact) patternRows_.build(r.pattern);
   r.projectContact = projectedLastSolve_;
   struct Remember {
     bool& from;
@@ -282,21 +307,25 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     }
     const bool atFloor = stalled >= 3 && rep.residual <= 100 * std::max(goal, r.stallFloor);
     if (cancel_ && cancel_->load()) return fail(r, "cancelled");
-    if (rep.residual <= goal || atFloor) {
-      if (atFloor && rep.residual > goal)
-        rep.message = "converged to the round-off floor of the forces";
+    const auto succeed = [&] {
+      if (rep.residual > goal) rep.message = "converged to the round-off floor of the forces";
       rep.converged = true;
       lastX_ = x;
       if (fc) fc->travel = r.travel;
       lastShift_ = r.shift;
       return rep;
-    }
+    };
+    if (rep.residual <= goal || atFloor) return succeed();
     if (it >= options_.maxIterations) {
       std::ostringstream s;
       s << "did not converge in " << it << " iterations (relative residual "
         << rep.relativeResidual() << ")";
       return fail(r, s.str());
     }
+    // The first iteration assembles its tangent at the relaxed state straight away (it always
+    // needs one: the predictor leaves ~1e-5 of the load scale, the relaxation a tenth of that).
+    r.relaxed = relaxContact(r, goal, it == 0);
+    if (r.relaxed && rep.residual <= goal) return succeed();
     std::string why;
     if (!newtonDirection(r, it, why)) return fail(r, why);
     const double ds = probeStep(r);
@@ -316,6 +345,36 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     r.tryExact = alpha == 1.0 && r.shift > 0 && !r.exactFailed;
     r.lastResidual = rep.residual;
   }
+}
+
+// Nonlinear elimination of the contact vertices (solver/ContactRelaxation.h): the pressed
+// triangles' vertices moved to the minimum of the energy over them alone, kept when the model's
+// energy does not rise and its residual falls by a tenth or more; r.rep and r.g are then of the
+// new state. Costs one evaluation (with the tangent when withTangent) and a small dense solve.
+bool StaticSolver::relaxContact(Run& r, double goal, bool withTangent) {
+  if (!options_.relaxContact || !model_.probe() || ev_.contactTriangles == 0) return false;
+  if (!relax_.relax(model_, patternRows_, r.x, ev_.gradient, 0.1 * goal, r.stepPoints))
+    return false;
+  if (!(model_.contactStepBound(r.x, r.stepPoints, Vec3::Zero()) >= 1.0)) return false;
+  r.xt = r.x + r.stepPoints;
+  const bool project = withTangent && options_.projectContactHessian;  // as newtonDirection
+  evaluateAt(r, r.xt, r.travel, withTangent, trial_, project);
+  double et, rt, lt;
+  measure(r, trial_, r.travel, et, rt, lt);
+  const double noise =
+      1e-13 * (ev_.energy.magnitude + (r.fc ? std::abs(r.fc->force * r.travel) : 0.0));
+  const bool kept = std::isfinite(et) && std::isfinite(rt) && et <= r.rep.energy + noise &&
+                    rt <= 0.9 * r.rep.residual;
+  if (options_.verbose)
+    std::fprintf(stderr, "  contact relaxation  |g| %.3e -> %.3e  %s\n", r.rep.residual, rt,
+                 kept ? "kept" : "dropped");
+  if (kept) {
+    r.x = r.xt;
+    std::swap(ev_, trial_);
+    ++totals_.contactRelaxations;
+  }
+  measure(r, ev_, r.travel, r.rep.energy, r.rep.residual, r.rep.loadScale);
+  return kept;
 }
 
 SolveReport StaticSolver::fail(Run& r, const std::string& why) {
@@ -343,6 +402,8 @@ void StaticSolver::evaluateAt(Run& r, const Points& at, double travel, bool with
   }
   const auto tick = Clock::now();
   model_.evaluate(at, e, EvalOptions{.hessian = withHessian, .projectContact = projectContact});
+  if (withHessian && options_.relaxContact && model_.probe())
+    relax_.hold(model_, at, e.hessian, e.contactProjected);
   (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
 }
 
@@ -373,14 +434,24 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // last one: then the positive part again (one factorisation per iteration instead of two,
   // at the price of a linear rate in the contact's curvature term, which is small).
   const bool projectFirst = options_.projectContactHessian && (it == 0 || r.projectContact);
-  if (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0))
+  // A chord step: once the last iteration cut the residual a hundredfold and the relaxation has
+  // taken the contact's nonlinearity, what is left is nearly linear, and the tangent of the last
+  // iteration (held by relax_) serves instead of a new assembly (a quarter of a step's time at
+  // level 3). If CG fails on it, the tangent here is assembled after all.
+  const std::vector<double>* chord =
+      it >= 1 && !r.fc && r.shift == 0 && r.relaxed && r.rep.residual < 1e-2 * r.lastResidual
+          ? relax_.heldTangent(model_)
+          : nullptr;
+  if (!chord &&
+      (!ev_.hasHessian || (projectFirst != ev_.contactProjected && ev_.contactTriangles > 0)))
     evaluateAt(r, r.x, r.travel, true, ev_, projectFirst);
+  const std::vector<double>& tangent = chord ? *chord : ev_.hessian;
   const auto coupling = [&] {
     if (r.fc)
       for (int i = 0; i < r.n; ++i) r.b[i] = ev_.probeCoupling.row(r.freeDofs[i]).dot(r.fc->axis);
   };
   r.maxDiag = 0;
-  for (int j = 0; j < r.nAll; ++j) r.maxDiag = std::max(r.maxDiag, std::abs(ev_.hessian[r.diagPos[j]]));
+  for (int j = 0; j < r.nAll; ++j) r.maxDiag = std::max(r.maxDiag, std::abs(tangent[r.diagPos[j]]));
   if (r.maxDiag == 0) r.maxDiag = r.stiffScale;
   coupling();
   bool solved = false;
@@ -393,12 +464,14 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // 2-core VM of bench/README.md: 1.1 ns per nonzero against 11.6 GFlop/s), so on the default
   // meristem a factorisation costs about as much as 40 CG iterations; on large meshes the
   // triangular solves get relatively cheaper, so more CG iterations are done before
-  // refactorising.
+  // refactorising. The fraction (options_.refactorFraction) was a quarter until the contact
+  // patch's block corrected the preconditioner: the solves then stayed under that for whole
+  // curves, on a factor drifting further (6 → 9 iterations a solve over the level-3 curve).
   const bool factorDrifted =
       lastPcgFailed_ ||
       (lastPcgIterations_ > options_.refactorAfterPcg &&
        lastPcgIterations_ * kPcgIterationFlopsPerNonzero * chol_.factorNonzeros() >
-           0.25 * chol_.factorFlops());
+           options_.refactorFraction * chol_.factorFlops());
   if (options_.reuseFactorization && chol_.factored() && r.shift == 0 && !factorDrifted) {
     // Inexact Newton: solve just accurately enough for this step to reach the tolerance
     // (a tenth of the remaining reduction), never looser than pcgTolerance. But while the
@@ -415,13 +488,21 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
                             : std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
     int its = 0;
     const auto tick = Clock::now();
-    solved = pcg(r.pattern, ev_.hessian, r.g, r.dx, eta, its, options_.maxPcgIterations) &&
-             (!r.fc || pcg(r.pattern, ev_.hessian, r.b, r.z2, eta, its, options_.maxPcgIterations));
+    if (options_.relaxContact && ev_.contactTriangles > 0 && patternRows_.builtFor(r.pattern))
+      local_.build(patternRows_, tangent, pressedUnknowns(model_, r.x, patternRows_), true);
+    solved = pcg(r.pattern, tangent, r.g, r.dx, eta, its, options_.maxPcgIterations) &&
+             (!r.fc || pcg(r.pattern, tangent, r.b, r.z2, eta, its, options_.maxPcgIterations));
+    local_.clear();
     totals_.pcgSeconds += seconds(tick);
 
     r.rep.pcgIterations += its;
     lastPcgIterations_ = its / (r.fc ? 2 : 1);
     lastPcgFailed_ = !solved;
+  }
+  if (!solved && chord) {
+    r.relaxed = false;  // no chord again: the tangent at this iterate
+    evaluateAt(r, r.x, r.travel, true, ev_, projectFirst);
+    return newtonDirection(r, it, why);
   }
   if (!solved) {
     const auto tick = Clock::now();
@@ -457,8 +538,9 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     if (r.fc) chol_.solve(r.b, r.z2);
     totals_.factorSeconds += seconds(tick);
   }
-  r.direction = solved ? (ev_.contactProjected ? "CG, contact projected" : "CG")
-                       : (ev_.contactProjected ? "factor, contact projected" : "factor");
+  r.direction = chord    ? "CG on the last tangent (chord)"
+                : solved ? (ev_.contactProjected ? "CG, contact projected" : "CG")
+                         : (ev_.contactProjected ? "factor, contact projected" : "factor");
   r.dx = -r.dx;
   return true;
 }

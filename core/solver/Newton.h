@@ -12,6 +12,7 @@
 
 #include "mechanics/Model.h"
 #include "solver/CholmodSolver.h"
+#include "solver/ContactRelaxation.h"
 #include "solver/Solver.h"
 
 namespace tp {
@@ -47,6 +48,8 @@ class StaticSolver final : public EquilibriumSolver {
   double probeStep(Run& r);
   double stepLimit(Run& r, double ds);
   double lineSearch(Run& r, double ds, double slope, double alphaMax);
+  bool relaxContact(Run& r, double goal, bool withTangent);
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// Factorises ev_'s tangent (+ shift·I), first replacing the contact Hessian by its positive
   /// part (projectContact) and then growing the shift while it is not positive definite.
   bool factorizeTangent(double& shift, double maxDiag, int& factorizations,
@@ -67,6 +70,11 @@ class StaticSolver final : public EquilibriumSolver {
   bool lastPcgFailed_ = false;
   bool projectedLastSolve_ = false;  // the last solve needed the contact Hessian's positive part
   SolverTotals totals_;
+  // The contact patch's solves (solver/ContactRelaxation.h): the last tangent for the relaxation
+  // and chord steps, the current one over the pressed triangles for precondition().
+  PatternRows patternRows_;
+  ContactRelaxation relax_;
+  LocalTangent local_;
 };
 
 }  // namespace tp

@@ -26,10 +26,13 @@ struct SolverOptions {
   bool reuseFactorization = true;  // try CG preconditioned by the last factor before refactoring
   double pcgTolerance = 1e-3;  // loosest relative residual of those CG solves (inexact Newton)
   int maxPcgIterations = 25;   // beyond this the tangent is factorised afresh
-  int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations (and
-                               // more than a quarter of a factorisation's time)
+  int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations and
+  double refactorFraction = 0.15;  // more than this fraction of a factorisation's operations
   bool projectContactHessian = true;  // when the tangent is not positive definite, first retry
                                       // with the positive part of each contact element's Hessian
+  bool relaxContact = true;    // the contact patch's own solves between and inside Newton
+                               // iterations (solver/ContactRelaxation.h): its vertices relaxed,
+                               // chord steps, its block in CG's preconditioner
   bool verbose = false;        // print one line per iteration to stderr
 
   // Reference solver (implicit Euler, Rayleigh damping, CG), with SOFA's usual settings.
@@ -67,6 +70,7 @@ struct SolveReport {
 /// Totals over every solve of one solver (benchmarks, reports).
 struct SolverTotals {
   int solves = 0, iterations = 0, factorizations = 0, pcgIterations = 0;
+  int contactRelaxations = 0;  // kept (StaticSolver::relaxContact)
   double assemblySeconds = 0, factorSeconds = 0, pcgSeconds = 0, lineSearchSeconds = 0;
 };
 

@@ -156,7 +156,10 @@ TEST(Experiment, AutomaticMeshStopsAtTheFirstLevelWithinTolerance) {
               1)
         << "level " << level;
   // That reused site, pushed to the end depth for the estimate and brought back to first
-  // contact, gives the curve a site prepared afresh gives (to the solver's tolerance).
+  // contact, gives the curve a site prepared afresh gives, to the solver's tolerance: each solve
+  // stops once its residual is within 1e-8 of the load scale (here the turgor's forces, a few
+  // hundred times the probe's), which leaves the probe's force known to a few 1e-6 of itself
+  // (the two paths differed by 3.4e-6 at 0.32 µN; a different site would differ by percents).
   if (r.site->level > s.mesh.level) {
     ExperimentSettings again = s;
     again.mesh.automatic = false;
@@ -166,7 +169,7 @@ TEST(Experiment, AutomaticMeshStopsAtTheFirstLevelWithinTolerance) {
     ASSERT_TRUE(fresh.complete) << fresh.message;
     ASSERT_EQ(fresh.curve.size(), r.curve.size());
     for (size_t i = 1; i < r.curve.size(); ++i)
-      EXPECT_NEAR(r.curve[i].force, fresh.curve[i].force, 1e-7 * std::abs(fresh.curve[i].force));
+      EXPECT_NEAR(r.curve[i].force, fresh.curve[i].force, 2e-5 * std::abs(fresh.curve[i].force));
   } else {
     ADD_FAILURE() << "the automatic mesh stopped at its first level: no reused site to check";
   }
