@@ -456,7 +456,7 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   coupling();
   bool solved = false;
   // A factor whose last CG solve failed, or took more than refactorAfterPcg iterations and
-  // more than a quarter of a factorisation's cost, has drifted too far from the tangent: it is
+  // more than a fraction of a factorisation's cost, has drifted too far from the tangent: it is
   // refactorised straight away. The costs are operation counts, not timings, so that the same
   // input always takes the same path to the same bits (a map's shards and a single run agree
   // byte for byte): a CG iteration (two single-precision triangular solves, memory-bound) takes
@@ -464,14 +464,18 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // 2-core VM of bench/README.md: 1.1 ns per nonzero against 11.6 GFlop/s), so on the default
   // meristem a factorisation costs about as much as 40 CG iterations; on large meshes the
   // triangular solves get relatively cheaper, so more CG iterations are done before
-  // refactorising. The fraction (options_.refactorFraction) was a quarter until the contact
-  // patch's block corrected the preconditioner: the solves then stayed under that for whole
-  // curves, on a factor drifting further (6 → 9 iterations a solve over the level-3 curve).
+  // refactorising. The fraction is a quarter (refactorFraction), and less when the contact
+  // patch's block corrected the preconditioner (refactorFractionContact): with it the solves of
+  // a level-3 curve stayed under a quarter to the end, on a factor drifting further (6 → 9
+  // iterations a solve); solves without contact (rest states) keep the quarter they were
+  // measured with.
+  const double fraction =
+      lastPcgLocal_ ? options_.refactorFractionContact : options_.refactorFraction;
   const bool factorDrifted =
       lastPcgFailed_ ||
       (lastPcgIterations_ > options_.refactorAfterPcg &&
        lastPcgIterations_ * kPcgIterationFlopsPerNonzero * chol_.factorNonzeros() >
-           options_.refactorFraction * chol_.factorFlops());
+           fraction * chol_.factorFlops());
   if (options_.reuseFactorization && chol_.factored() && r.shift == 0 && !factorDrifted) {
     // Inexact Newton: solve just accurately enough for this step to reach the tolerance
     // (a tenth of the remaining reduction), never looser than pcgTolerance. But while the
@@ -490,6 +494,7 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     const auto tick = Clock::now();
     if (options_.relaxContact && ev_.contactTriangles > 0 && patternRows_.builtFor(r.pattern))
       local_.build(patternRows_, tangent, pressedUnknowns(model_, r.x, patternRows_), true);
+    lastPcgLocal_ = local_.active();
     solved = pcg(r.pattern, tangent, r.g, r.dx, eta, its, options_.maxPcgIterations) &&
              (!r.fc || pcg(r.pattern, tangent, r.b, r.z2, eta, its, options_.maxPcgIterations));
     local_.clear();

@@ -68,6 +68,7 @@ class StaticSolver final : public EquilibriumSolver {
   double lastShift_ = 0;
   int lastPcgIterations_ = 0;  // of the last CG solve on the lagged factor
   bool lastPcgFailed_ = false;
+  bool lastPcgLocal_ = false;  // ... with the contact patch's block in its preconditioner
   bool projectedLastSolve_ = false;  // the last solve needed the contact Hessian's positive part
   SolverTotals totals_;
   // The contact patch's solves (solver/ContactRelaxation.h): the last tangent for the relaxation

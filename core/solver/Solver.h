@@ -27,7 +27,8 @@ struct SolverOptions {
   double pcgTolerance = 1e-3;  // loosest relative residual of those CG solves (inexact Newton)
   int maxPcgIterations = 25;   // beyond this the tangent is factorised afresh
   int refactorAfterPcg = 6;    // refactorise when the last CG solve took more iterations and
-  double refactorFraction = 0.15;  // more than this fraction of a factorisation's operations
+  double refactorFraction = 0.25;         // more than this fraction of a factorisation's
+  double refactorFractionContact = 0.15;  // operations (this one with the contact's block)
   bool projectContactHessian = true;  // when the tangent is not positive definite, first retry
                                       // with the positive part of each contact element's Hessian
   bool relaxContact = true;    // the contact patch's own solves between and inside Newton
