@@ -34,6 +34,9 @@ struct MeshSettings {
   bool estimateError = true;  // estimate the error of a fixed level too (costs a finer run)
   int maxLevel = 6;
   double grading = 1.5;       // the target edge grows by 1/grading per µm away from the site
+  // An unseeded refined rest state under turgor starts with the vertices the refinement added
+  // relaxed, the tissue's own held (Experiment::relaxAddedVertices).
+  bool relaxAddedVertices = true;
 };
 
 /// The graded refinement of level L ≥ 1 around a material point of the rest surface: longest
@@ -186,6 +189,8 @@ class Experiment {
   void checkCancel(const Monitor& m) const;
   void checkAgainstTissue(const ExperimentSettings& s) const;  // throws std::invalid_argument
   Vec3 transferPoint(const Vec3& rest) const;  // a rest surface point in the base turgid state
+  // The refined tissue's added vertices relaxed with its own held, into guess (kept if that fails).
+  void relaxAddedVertices(const PreparedSite& site, Points& guess, const Monitor& monitor) const;
 
   std::shared_ptr<const CellComplex> tissue_;
   ExperimentSettings settings_;
