@@ -161,6 +161,12 @@ double ContactLaw::d2phi(double g) const {
   return stiffness;
 }
 
+Mat12 positivePart(const Mat12& hessian) {
+  Eigen::SelfAdjointEigenSolver<Mat12> es(hessian);
+  return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+         es.eigenvectors().transpose();
+}
+
 double sphereTriangleEnergy(const ContactLaw& law, const Vec3& p, double radius, const Vec3& x0,
                             const Vec3& x1, const Vec3& x2, Vec12* grad, Mat12* hess) {
   Vec12 gD;

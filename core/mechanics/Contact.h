@@ -35,6 +35,11 @@ struct ContactLaw {
   double d2phi(double g) const;
 };
 
+/// The positive part of a contact element's Hessian (its negative eigenvalues set to zero): the
+/// sphere's curvature makes the exact one indefinite (−φ'/(2d) ∇²D), and contact codes keep the
+/// positive part, as for barrier terms, so that it never spoils the tangent.
+Mat12 positivePart(const Mat12& hessian);
+
 /// Contact energy between a sphere (centre p, radius r) and one triangle; derivatives with respect
 /// to (p, x0, x1, x2). Returns 0 (and zero derivatives) when the sphere does not reach the triangle.
 double sphereTriangleEnergy(const ContactLaw& law, const Vec3& p, double radius, const Vec3& x0,

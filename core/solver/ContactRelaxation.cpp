@@ -1,6 +1,5 @@
 #include "solver/ContactRelaxation.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -19,14 +18,7 @@ double contactElement(const ContactLaw& law, const Probe& probe, const Vec3& a, 
   const double w = sphereTriangleEnergy(law, probe.center, probe.radius, a, b, c, &g12,
                                         H ? &H12 : nullptr);
   if (g) *g = g12.tail<9>();
-  if (H) {
-    if (projected) {
-      Eigen::SelfAdjointEigenSolver<Mat12> es(H12);
-      H12 = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
-            es.eigenvectors().transpose();
-    }
-    *H = H12.bottomRightCorner<9, 9>();
-  }
+  if (H) *H = (projected ? positivePart(H12) : H12).bottomRightCorner<9, 9>();
   return w;
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <random>
 
 #include "mechanics/Bending.h"
@@ -387,4 +388,29 @@ TEST(ContactGeometry, SmallProbeCaughtByTriangleFace) {
   EXPECT_GT(e, 0.0);
   EXPECT_LT(g.z(), 0.0);      // lowering the probe costs energy: ∂W/∂p_z < 0
   EXPECT_NEAR(g.segment<3>(3).z() + g.segment<3>(6).z() + g.segment<3>(9).z(), -g.z(), 1e-12);
+}
+
+TEST(ContactProjection, PositivePartKeepsTheEigenvectorsAndDropsNegativeEigenvalues) {
+  // A symmetric matrix with known eigenpairs (a random rotation Q, eigenvalues from −3 to 8):
+  // its positive part is Q max(Λ, 0) Qᵀ, positive semi-definite, equal to it on the positive
+  // eigenvectors and zero on the negative ones.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Mat12 A;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) A(i, j) = n(rng);
+  const Eigen::HouseholderQR<Mat12> qr(A);
+  const Mat12 Q = qr.householderQ();
+  Eigen::Matrix<double, 12, 1> lambda;
+  for (int i = 0; i < 12; ++i) lambda[i] = -3.0 + i;
+  const Mat12 H = Q * lambda.asDiagonal() * Q.transpose();
+  const Mat12 P = positivePart(H);
+  const Mat12 expected = Q * lambda.cwiseMax(0.0).asDiagonal() * Q.transpose();
+  EXPECT_LE((P - expected).norm(), 1e-12 * expected.norm());
+  for (int i = 0; i < 12; ++i) {
+    const Eigen::Matrix<double, 12, 1> q = Q.col(i);
+    EXPECT_NEAR((P * q - std::max(lambda[i], 0.0) * q).norm(), 0.0, 1e-12) << "eigenvector " << i;
+  }
+  // A positive semi-definite matrix is its own positive part.
+  EXPECT_LE((positivePart(expected) - expected).norm(), 1e-12 * expected.norm());
 }

@@ -1,6 +1,5 @@
 #include "mechanics/terms/ContactTerm.h"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <stdexcept>
 
@@ -46,13 +45,7 @@ double ContactTerm::evaluate(const Points& x, const EvalOptions& o, TermSink& si
     const double w = sphereTriangleEnergy(law_, probe_->center, probe_->radius, a, b, c, &g12,
                                           o.hessian ? &H12 : nullptr);
     if (w == 0.0 && g12.isZero()) return;
-    if (o.hessian && o.projectContact) {
-      // The sphere's curvature makes the contact Hessian indefinite (−φ'/(2d) ∇²D); keep its
-      // positive part, as contact codes do for barrier terms, so it never spoils the tangent.
-      Eigen::SelfAdjointEigenSolver<Mat12> es(H12);
-      H12 = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
-            es.eigenvectors().transpose();
-    }
+    if (o.hessian && o.projectContact) H12 = positivePart(H12);
     ++out.contactTriangles;
     energy += w;
     const Vec9 gx = g12.tail<9>();
