@@ -83,7 +83,6 @@ class ContactRelaxation {
   /// probe; `projected` when its contact part was each element's positive part.
   void hold(const Model& model, const Points& x, const std::vector<double>& hessian,
             bool projected);
-  void forget() { held_ = false; }
   /// The held tangent's values, when held for this model's pattern and probe radius (else null).
   const std::vector<double>* heldTangent(const Model& model) const;
 

@@ -371,7 +371,6 @@ bool StaticSolver::relaxContact(Run& r, double goal, bool withTangent) {
   if (kept) {
     r.x = r.xt;
     std::swap(ev_, trial_);
-    ++totals_.contactRelaxations;
   }
   measure(r, ev_, r.travel, r.rep.energy, r.rep.residual, r.rep.loadScale);
   return kept;

@@ -71,7 +71,6 @@ struct SolveReport {
 /// Totals over every solve of one solver (benchmarks, reports).
 struct SolverTotals {
   int solves = 0, iterations = 0, factorizations = 0, pcgIterations = 0;
-  int contactRelaxations = 0;  // kept (StaticSolver::relaxContact)
   double assemblySeconds = 0, factorSeconds = 0, pcgSeconds = 0, lineSearchSeconds = 0;
 };
 
