@@ -30,6 +30,7 @@ void addSizeCounters(benchmark::State& state, const Model& m) {
   state.counters["vertices"] = m.complex().vertexCount();
   state.counters["triangles"] = m.complex().triangleCount();
   state.counters["unknowns"] = m.dofs().freeCount();
+  state.counters["nonzeros"] = static_cast<double>(m.pattern().nnz());  // of the tangent's upper triangle
 }
 
 // Picking a site, as the application does once the tissue is loaded (its rest state under turgor
