@@ -5,14 +5,18 @@
 // method (implicit Euler + CG) on the same curve and mesh.
 // Run: build/bin/bench_indentation [--benchmark_filter=...]; see bench/README.md.
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <cmath>
 #include <cstdlib>
+#include <thread>
 #include <vector>
 
 #include "BenchCommon.h"
+#include "experiment/Drag.h"
 #include "experiment/Map.h"
 #include "io/Centroids.h"
 #include "solver/CholmodSolver.h"
@@ -180,6 +184,62 @@ void curve(benchmark::State& state, SolverKind kind, bool predictor,
   state.counters["gradients_s"] = spent.lineSearchSeconds;
 }
 
+// A probe dragged as in the application's measurement (tests/gui/gui_window, drag rates): the
+// cursor moves one pixel per 1/60 s event, 100 pixels (one probe radius, 1 µm) down and back,
+// for 20 s, and each equilibrium is one DragFollower step (core/experiment/Drag.h) toward where
+// the cursor is when it starts, as the application's worker takes the newest depth asked. When
+// the tissue has caught up with the cursor it waits for the next event (as the application
+// waits for the next request). Without the drawing, on the one OpenMP thread the application's
+// worker uses beside it (BLAS keeps its threads, as there). Counters: equilibria per second,
+// the depth the equilibria travelled, the deepest, Newton iterations and factorisations.
+void BM_DragReplay(benchmark::State& state) {
+  Setup s = prepare(static_cast<int>(state.range(0)));
+  Indentation& ind = s.indentation();
+  const double radius = ind.settings().probeRadius, event = 1.0 / 60, seconds = 20;
+  const auto cursor = [&](double t) {  // µm, at the last event before t
+    const int phase = static_cast<int>(std::floor(t / event)) % 200;
+    return (phase < 100 ? phase : 200 - phase) * radius / 100;
+  };
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  int equilibria = 0, iterations = 0, factorizations = 0;
+  double travelled = 0, deepest = 0, elapsed = 0;
+  for (auto _ : state) {
+    DragFollower drag;
+    const SolverTotals before = ind.solver().totals();
+    const auto start = Clock::now();
+    const auto now = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    double last = ind.depth();
+    while (now() < seconds) {
+      const double t = now(), asked = cursor(t);
+      if (asked == ind.depth()) {  // caught up: the next mouse event
+        const double next = (std::floor(t / event) + 1) * event;
+        std::this_thread::sleep_for(std::chrono::duration<double>(next - t));
+        continue;
+      }
+      const DragStep step = drag.toward(ind, asked);
+      if (step.failed()) {
+        state.SkipWithError(ind.lastMessage().c_str());
+        break;
+      }
+      if (!step.point.converged) continue;
+      ++equilibria;
+      iterations += step.point.iterations;
+      travelled += std::abs(step.point.depth - last);
+      deepest = std::max(deepest, step.point.depth);
+      last = step.point.depth;
+    }
+    elapsed = now();
+    factorizations = ind.solver().totals().factorizations - before.factorizations;
+  }
+  omp_set_num_threads(threads);
+  state.counters["equilibria_per_s"] = equilibria / elapsed;
+  state.counters["travel_um"] = travelled;
+  state.counters["deepest_um"] = deepest;
+  state.counters["iterations_per_eq"] = equilibria ? double(iterations) / equilibria : 0.0;
+  state.counters["factorizations"] = factorizations;
+}
+
 void BM_LoadingCurve(benchmark::State& state) { curve(state, SolverKind::Newton, true); }
 // Ours and the published method on the same (hinge) model.
 void BM_LoadingCurveHinge(benchmark::State& state) {
@@ -242,6 +302,7 @@ BENCHMARK(BM_Assembly)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AssemblyHinge)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Factorization)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EquilibriumStep)->Arg(0)->Arg(3)->Arg(4)->Iterations(21)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DragReplay)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK(BM_LoadingCurve)->Arg(0)->Arg(3)->Arg(4)->Iterations(1)->Unit(benchmark::kSecond);
 // The reference takes minutes per curve: level 0 and the default level 3; TP_BENCH_ALL=1 adds 4.
 BENCHMARK(BM_LoadingCurveHinge)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <sstream>
 
+#include "experiment/Drag.h"
 #include "experiment/Stress.h"
 #include "io/Paths.h"
 #include "io/Ply.h"
@@ -36,7 +37,7 @@ struct SimulationWorker::State {
   int depthSerial = 0;     // drag equilibria solved so far (an estimate waits for a pause)
   double liveDepth = 0;    // deepest equilibrium of the current drag (µm)
   double liveEstimated = -1;  // the depth its error was last estimated at
-  double dragStep = 0;        // largest depth change per drag equilibrium now (µm; 0: not set)
+  DragFollower drag;          // the drag's step toward the depth asked (core/experiment/Drag.h)
   std::string meshStatus;
   mutable StressField turgidStress;  // at the turgid state of preparation turgidStressFor
   mutable int turgidStressFor = -1;
@@ -64,9 +65,6 @@ std::vector<float> toFloats(const Points& x) {
   return out;
 }
 
-constexpr double kDragTolerance = 1e-7;  // relative residual of equilibria during a drag
-// Largest depth change per drag equilibrium, in probe radii: where it starts, and its bounds.
-constexpr double kDragStepRadii = 0.025, kDragStepMin = 0.01, kDragStepMax = 0.25;
 constexpr int kEstimateDelayMs = 800;     // a drag at rest this long gets its error estimated
 
 // Per-triangle colour quantities of a state (experiment/Quantities.h).
@@ -338,7 +336,7 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
   ++s.preparation;
   s.liveDepth = 0;
   s.liveEstimated = -1;
-  s.dragStep = 0;
+  s.drag.reset();
   std::ostringstream mesh;
   mesh << "mesh level " << level << (params.autoMesh ? " (automatic)" : "") << ": "
        << s.site->complex->vertexCount() << " vertices; error not yet estimated";
@@ -357,48 +355,24 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
 void SimulationWorker::handle(const Depth& r) {
   if (!s_->prepared()) return;
   emit busy(tr("Solving at depth %1 µm…").arg(r.depth, 0, 'f', 3));
-  // A drag shows equilibria rather than measuring them: a residual of 1e-7 of the load scale
-  // (forces good to ~1e-5 µN of tens of µN) lets most drag steps finish in one Newton iteration
-  // instead of two. Curve runs keep the solver's own tolerance (1e-8).
+  // One equilibrium a bounded step toward the depth asked (core/experiment/Drag.h); the rest of
+  // the way is the next request, unless a newer depth (the cursor's) has arrived.
   Indentation& ind = *s_->site->indentation;
-  SolverOptions& options = ind.solver().options();
-  const double tolerance = options.tolerance;
-  options.tolerance = std::max(tolerance, kDragTolerance);
-  // The probe moves at most s_->dragStep per equilibrium: a warm-started small step converges
-  // in one or two Newton iterations (about 0.1 s at level 3), a jump of half a micrometre in
-  // 8-11 slower ones, so the view would show one equilibrium every few seconds. Step-size
-  // control within kDragStepMin..kDragStepMax radii: the step grows by half while steps take at
-  // most two iterations, halves when they take more than three or fail (and is tried again).
-  // The rest of the way is the next request, unless a newer depth (the cursor's) has arrived.
-  const double radius = ind.settings().probeRadius;
-  double& step = s_->dragStep;
-  if (!(step > 0)) step = kDragStepRadii * radius;
-  const double gap = r.depth - ind.depth();
-  const bool partial = std::abs(gap) > step;
-  const double target = partial ? ind.depth() + std::copysign(step, gap) : r.depth;
-  const CurvePoint pt = ind.goToDepth(target);
-  options.tolerance = tolerance;
-  const bool canShrink = step > kDragStepMin * radius * 1.0001;
-  if (pt.converged && pt.iterations <= 2)
-    step = std::min(1.5 * step, kDragStepMax * radius);
-  else if (!pt.converged || pt.iterations > 3)
-    step = std::max(0.5 * step, kDragStepMin * radius);
-  const auto continueTo = [&](double depth) {
+  const DragStep step = s_->drag.toward(ind, r.depth);
+  const CurvePoint& pt = step.point;
+  if (step.more) {
+    bool newer;
     {
       std::lock_guard lock(mutex_);
-      if (!queue_.empty()) return;  // a newer request comes first
+      newer = !queue_.empty();  // a newer request comes first
     }
-    enqueue(Depth{depth});
-  };
-  if (!pt.converged) {
-    if (std::abs(gap) > kDragStepMin * radius && canShrink) {
-      continueTo(r.depth);  // a smaller step next
-      return;
-    }
+    if (!newer) enqueue(Depth{r.depth});
+  }
+  if (step.failed()) {
     emit failed(q(ind.lastMessage()));
     return;
   }
-  if (partial) continueTo(r.depth);
+  if (!pt.converged) return;  // tried again with a smaller step
   s_->liveDepth = std::max(s_->liveDepth, pt.depth);
   Snapshot snap = snapshot(Snapshot::Phase::Equilibrium);
   snap.point = pt;
