@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "mesh/CellComplex.h"
@@ -131,6 +132,26 @@ MeshError estimateMeshError(int level, double value, int finerLevel, double fine
   std::ostringstream how;
   how << "level " << level << " against level " << finerLevel << ": " << value << " and "
       << finerValue << ", first-order convergence assumed, safety factor 1.25";
+  e.method = how.str();
+  return e;
+}
+
+MeshError estimateMeshErrorFromCoarser(int level, double value, int coarserLevel,
+                                       double coarserValue) {
+  MeshError e;
+  e.values = {{level, value}, {coarserLevel, coarserValue}};
+  const double scale = std::abs(value);
+  const double diff = std::abs(value - coarserValue);
+  if (!(scale > 0) || !std::isfinite(diff)) {
+    e.method = "not estimated (end value zero or not finite)";
+    return e;
+  }
+  // First order assumed: F_L − F* = Σ_{k≥L} (F_k − F_{k+1}) ≤ |F_{L−1} − F_L| Σ_{j≥1} 2^{−j}.
+  e.order = 1;
+  e.relative = 1.25 * diff / scale;
+  std::ostringstream how;
+  how << "level " << level << " against level " << coarserLevel << ": " << value << " and "
+      << coarserValue << ", first-order convergence assumed, safety factor 1.25";
   e.method = how.str();
   return e;
 }
@@ -451,6 +472,7 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
   const IndentationSettings& ind = settings_.indentation;
   const bool force = ind.control == Control::Force;
   Seed seed;  // the last level's solution, to start the next one from
+  std::optional<std::pair<int, double>> coarser;  // the last level's end value in this run
   // The error estimate's site of level L + 1 becomes the next level's site (its rest state is
   // solved once, not twice); whatever is left is let go when the run ends.
   keepEstimated_ = true;
@@ -506,6 +528,21 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
     const double value = force ? end.depth : end.force;
     rememberEndValue(level, value);
     if (!mesh.automatic && !mesh.estimateError) return result;
+    // Past the first level, the coarser level's end value (this run's) may already show this
+    // one within tolerance; only if not is the next finer level solved for the estimate.
+    if (mesh.automatic && coarser && coarser->first == level - 1) {
+      const MeshError e = estimateMeshErrorFromCoarser(level, value, coarser->first, coarser->second);
+      if (e.estimated() && e.relative <= mesh.tolerance) {
+        result.error = e;
+        result.withinTolerance = true;
+        std::ostringstream m;
+        m << "Level " << level << ": end value " << value << ", estimated error "
+          << 100 * e.relative << " % (" << e.method << ")";
+        monitor.say(m.str());
+        return result;
+      }
+    }
+    coarser = std::make_pair(level, value);
     try {
       result.error = estimateError(level, value, monitor, &seed);
     } catch (const Cancelled&) {

@@ -3,7 +3,8 @@
 // the benchmarks): the tissue at rest under its turgor pressure, the site chosen on it, the mesh
 // refined around the site level by level (graded, tissue/Refine.h), the rest state and first
 // contact on that mesh, the curve, and its discretisation error estimated from the next finer
-// level of the same family (the grid convergence index of Roache 1994 with an assumed order).
+// level of the same family, or from the coarser one the automatic mesh ran before (the grid
+// convergence index of Roache 1994 with an assumed order).
 // Units: µm, MPa, µN.
 
 #include <atomic>
@@ -60,9 +61,10 @@ struct ExperimentSettings {
   void validate() const;
 };
 
-/// The estimated discretisation error of an end value at one level, from the next finer level.
+/// The estimated discretisation error of an end value at one level, from the next finer level
+/// or (the automatic mesh past its first level) from the coarser one.
 struct MeshError {
-  std::vector<std::pair<int, double>> values;  // (level, end value): the level, then the finer
+  std::vector<std::pair<int, double>> values;  // (level, end value): the level, then the other
   double order = 0;     // the order of convergence assumed
   double relative = -1; // estimated |error| / |value| at the level; < 0: not estimated
   std::string method;   // how it was estimated, for reports
@@ -77,6 +79,15 @@ struct MeshError {
 /// is at most 2 |F_L − F_{L+1}|, reported with Roache's safety factor 1.25 (Roache 1994, the
 /// grid convergence index with p = 1).
 MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue);
+
+/// The error of `value` at `level` from the end value at the next coarser level, under the same
+/// assumption: the differences at least halve level by level, so the error left at L is at most
+/// Σ_{j≥1} 2^{−j} |F_{L−1} − F_L| = |F_{L−1} − F_L| (tight at first order, 1/(2^p − 1) of it at
+/// order p), reported with the safety factor 1.25. The automatic mesh uses it once a level
+/// coarser than the one it stops at has been run: both values are known by then, and no finer
+/// level is solved for it.
+MeshError estimateMeshErrorFromCoarser(int level, double value, int coarserLevel,
+                                       double coarserValue);
 
 /// A site prepared on one mesh level: the (refined) tissue, its model, its rest state under
 /// turgor and the probe touching it.
@@ -181,7 +192,8 @@ class Experiment {
                           const Seed* seed = nullptr);
 
   /// The whole workflow: the curve at the fixed level, or (automatic) at the first level whose
-  /// estimated error is within tolerance (up to maxLevel), with its error. Failures of the
+  /// estimated error is within tolerance (up to maxLevel), with its error: from the next finer
+  /// level, or past the first level from the one run before when that is within tolerance. Failures of the
   /// curve are reported in the result; failures before it (rest state, preparation) throw.
   ExperimentResult run(const Monitor& monitor = {});
 
