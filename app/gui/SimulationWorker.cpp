@@ -32,6 +32,9 @@ struct SimulationWorker::State {
   SimulationParams params;
   Schedule schedule;
   int autoLevel = MeshSettings{}.level;  // the level the automatic mesh uses now
+  // The end value of the run the automatic mesh refined from (level, value): what a finer run
+  // of the same schedule judges its error by first (Experiment::curveError).
+  std::pair<int, double> refinedFrom{-1, 0.0};
   int generation = 0;
   int preparation = 0;
   int depthSerial = 0;     // drag equilibria solved so far (an estimate waits for a pause)
@@ -497,14 +500,19 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
     emit failed(q(ind.lastMessage()));
     return false;
   }
-  // Its discretisation error, from the next finer level at the deepest point.
+  // Its discretisation error at the deepest point: from the next finer level, or (the automatic
+  // mesh refining again) from the level run before when that is within tolerance.
   const bool force = sc.control == Control::Force;
   const CurvePoint& end = curve[sc.steps];
   Monitor monitor;
   monitor.cancel = &stop_;
   monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
-  const MeshError e = s.experiment->estimateError(s.site->level, force ? end.depth : end.force,
-                                                  monitor);
+  const double value = force ? end.depth : end.force;
+  // A new site or new parameters on the way cleared what the experiment knew of the level
+  // refined from; this run is that level's refinement, with the same schedule.
+  if (rerun && s.refinedFrom.first == s.site->level - 1)
+    s.experiment->rememberEndValue(s.refinedFrom.first, s.refinedFrom.second);
+  const MeshError e = s.experiment->curveError(s.site->level, value, monitor);
   MeshErrorReport report;
   report.preparation = s.preparation;
   report.run = true;
@@ -523,6 +531,7 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
   if (s.params.autoMesh && e.estimated() && e.relative > s.params.meshTolerance &&
       s.site->level < mesh.maxLevel) {
     // Not converged to the tolerance: one level finer, same site, and the curve again.
+    s.refinedFrom = {s.site->level, value};
     s.autoLevel = s.site->level + 1;
     emit busy(tr("Estimated error %1 is above the %2 asked: refining to level %3…")
                   .arg(q(percent(e.relative)), q(percent(s.params.meshTolerance)))

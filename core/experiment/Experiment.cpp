@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <sstream>
 
 #include "mesh/CellComplex.h"
@@ -466,13 +465,26 @@ MeshError Experiment::estimateError(int level, double value, const Monitor& moni
   }
 }
 
+MeshError Experiment::curveError(int level, double value, const Monitor& monitor,
+                                 const Seed* seed) {
+  endValues_[level] = value;
+  const MeshSettings& mesh = settings_.mesh;
+  if (mesh.automatic) {
+    const auto coarser = endValues_.find(level - 1);
+    if (coarser != endValues_.end()) {
+      MeshError e = estimateMeshErrorFromCoarser(level, value, level - 1, coarser->second);
+      if (e.estimated() && e.relative <= mesh.tolerance) return e;
+    }
+  }
+  return estimateError(level, value, monitor, seed);
+}
+
 ExperimentResult Experiment::run(const Monitor& monitor) {
   ExperimentResult result;
   const MeshSettings& mesh = settings_.mesh;
   const IndentationSettings& ind = settings_.indentation;
   const bool force = ind.control == Control::Force;
   Seed seed;  // the last level's solution, to start the next one from
-  std::optional<std::pair<int, double>> coarser;  // the last level's end value in this run
   // The error estimate's site of level L + 1 becomes the next level's site (its rest state is
   // solved once, not twice); whatever is left is let go when the run ends.
   keepEstimated_ = true;
@@ -528,23 +540,8 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
     const double value = force ? end.depth : end.force;
     rememberEndValue(level, value);
     if (!mesh.automatic && !mesh.estimateError) return result;
-    // Past the first level, the coarser level's end value (this run's) may already show this
-    // one within tolerance; only if not is the next finer level solved for the estimate.
-    if (mesh.automatic && coarser && coarser->first == level - 1) {
-      const MeshError e = estimateMeshErrorFromCoarser(level, value, coarser->first, coarser->second);
-      if (e.estimated() && e.relative <= mesh.tolerance) {
-        result.error = e;
-        result.withinTolerance = true;
-        std::ostringstream m;
-        m << "Level " << level << ": end value " << value << ", estimated error "
-          << 100 * e.relative << " % (" << e.method << ")";
-        monitor.say(m.str());
-        return result;
-      }
-    }
-    coarser = std::make_pair(level, value);
     try {
-      result.error = estimateError(level, value, monitor, &seed);
+      result.error = curveError(level, value, monitor, &seed);
     } catch (const Cancelled&) {
       result.cancelled = true;
       result.message = "cancelled while estimating the mesh error";

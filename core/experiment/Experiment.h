@@ -190,6 +190,13 @@ class Experiment {
   /// not yet known). A finer level that fails leaves the error not estimated.
   MeshError estimateError(int level, double value, const Monitor& monitor = {},
                           const Seed* seed = nullptr);
+  /// The error of a curve's end value at `level` as the mesh settings judge it: with the
+  /// automatic mesh, from the next coarser level's end value when one is known for these
+  /// settings (an automatic search past its first level ran it) and that estimate is within the
+  /// tolerance (estimateMeshErrorFromCoarser); otherwise from the next finer level
+  /// (estimateError). What run() and the application's curve runs report.
+  MeshError curveError(int level, double value, const Monitor& monitor = {},
+                       const Seed* seed = nullptr);
 
   /// The whole workflow: the curve at the fixed level, or (automatic) at the first level whose
   /// estimated error is within tolerance (up to maxLevel), with its error: from the next finer

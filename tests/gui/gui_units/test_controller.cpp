@@ -11,6 +11,7 @@
 #include "Picking.h"
 #include "SimulationController.h"
 #include "TestMain.h"
+#include "experiment/Experiment.h"
 #include "io/Ply.h"
 #include "tissue/Shapes.h"
 
@@ -184,6 +185,25 @@ class ControllerTest : public QObject {
     QVERIFY(meshText.count() >= 1);
     qInfo("automatic mesh: level %d, estimated error %.2f %%", run.meshLevel,
           100 * run.meshError);
+    // The command line's workflow (core Experiment::run) on the same tissue and parameters ends
+    // on the same level with the same error, judged the same way (from the level before it when
+    // that is within tolerance, else from the next finer); the curves agree to the solvers'
+    // tolerance (the application prepares each level afresh, run() reuses its estimate's site).
+    tp::ExperimentSettings es = p.experimentSettings();
+    es.indentation.maxDepth = s.maxDepth;
+    es.indentation.steps = s.steps;
+    tp::Experiment core(std::make_shared<tp::CellComplex>(tp::readPly(tissue_.toStdString())), es);
+    const tp::ExperimentResult r = core.run();
+    QVERIFY2(r.complete, r.message.c_str());
+    QCOMPARE(r.site->level, run.meshLevel);
+    QVERIFY2(std::abs(r.curve.back().force - run.points.back().force) <=
+                 2e-5 * std::abs(r.curve.back().force),
+             qPrintable(QString("%1 against %2").arg(r.curve.back().force).arg(run.points.back().force)));
+    QVERIFY2(std::abs(r.error.relative - run.meshError) <= 1e-3 * r.error.relative,
+             qPrintable(QString("%1 against %2 (%3)")
+                            .arg(r.error.relative)
+                            .arg(run.meshError)
+                            .arg(QString::fromStdString(r.error.method))));
   }
 
   void forceControlAndAFailedPreparation() {
