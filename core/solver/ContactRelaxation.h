@@ -39,7 +39,13 @@ std::vector<int> pressedUnknowns(const Model& model, const Points& x, const Patt
 /// block A_LL and the entries of A's rows L.
 class LocalTangent {
  public:
-  static constexpr int kMaxSize = 450;  // unknowns solved densely (a 3 µm probe at level 4: ~400)
+  // Unknowns solved densely. The default probe pressed 0.5 µm into level 4 has ~1,000 (212
+  // triangles in contact with their mid-edge unknowns); at 450, as before 2026-12-05, those
+  // solves had neither the relaxation nor the preconditioner's block: the level-4 50-step curve
+  // took 86 Newton iterations and 13.6-14.0 s, the error estimate's level-4 end point 7 and 4
+  // factorisations; at 1,500, 65 iterations and 9.9-10.4 s, 4 and 2 (bench/README.md). A dense
+  // factorisation of 1,500 costs ~1 GFlop, a few of a level-4 sparse one.
+  static constexpr int kMaxSize = 1500;
 
   /// False (and inactive) when `unknowns` is empty or larger than kMaxSize, or, with `factor`,
   /// when A_LL is not positive definite.
