@@ -116,43 +116,39 @@ void ExperimentSettings::validate() const {
           "the solver tolerance", solver.tolerance, "between 1e-14 and 1e-3");
 }
 
-MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue) {
+namespace {
+
+// The error of `value` at `level` from the end value at level `other`: `multiple` × their
+// difference (first order assumed), with Roache's safety factor 1.25.
+MeshError errorFromPair(int level, double value, int other, double otherValue, double multiple) {
   MeshError e;
-  e.values = {{level, value}, {finerLevel, finerValue}};
+  e.values = {{level, value}, {other, otherValue}};
   const double scale = std::abs(value);
-  const double diff = std::abs(value - finerValue);
+  const double diff = std::abs(value - otherValue);
   if (!(scale > 0) || !std::isfinite(diff)) {
     e.method = "not estimated (end value zero or not finite)";
     return e;
   }
-  // First order assumed: F_L − F* = Σ_{k≥L} (F_k − F_{k+1}) ≤ |F_L − F_{L+1}| Σ 2^{−j} = 2 |Δ|.
   e.order = 1;
-  e.relative = 1.25 * 2.0 * diff / scale;
+  e.relative = 1.25 * multiple * diff / scale;
   std::ostringstream how;
-  how << "level " << level << " against level " << finerLevel << ": " << value << " and "
-      << finerValue << ", first-order convergence assumed, safety factor 1.25";
+  how << "level " << level << " against level " << other << ": " << value << " and "
+      << otherValue << ", first-order convergence assumed, safety factor 1.25";
   e.method = how.str();
   return e;
 }
 
+}  // namespace
+
+MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue) {
+  // First order assumed: F_L − F* = Σ_{k≥L} (F_k − F_{k+1}) ≤ |F_L − F_{L+1}| Σ 2^{−j} = 2 |Δ|.
+  return errorFromPair(level, value, finerLevel, finerValue, 2.0);
+}
+
 MeshError estimateMeshErrorFromCoarser(int level, double value, int coarserLevel,
                                        double coarserValue) {
-  MeshError e;
-  e.values = {{level, value}, {coarserLevel, coarserValue}};
-  const double scale = std::abs(value);
-  const double diff = std::abs(value - coarserValue);
-  if (!(scale > 0) || !std::isfinite(diff)) {
-    e.method = "not estimated (end value zero or not finite)";
-    return e;
-  }
   // First order assumed: F_L − F* = Σ_{k≥L} (F_k − F_{k+1}) ≤ |F_{L−1} − F_L| Σ_{j≥1} 2^{−j}.
-  e.order = 1;
-  e.relative = 1.25 * diff / scale;
-  std::ostringstream how;
-  how << "level " << level << " against level " << coarserLevel << ": " << value << " and "
-      << coarserValue << ", first-order convergence assumed, safety factor 1.25";
-  e.method = how.str();
-  return e;
+  return errorFromPair(level, value, coarserLevel, coarserValue, 1.0);
 }
 
 Experiment::Experiment(std::shared_ptr<const CellComplex> tissue, ExperimentSettings settings)
