@@ -199,9 +199,8 @@ class Experiment {
                        const Seed* seed = nullptr);
 
   /// The whole workflow: the curve at the fixed level, or (automatic) at the first level whose
-  /// estimated error is within tolerance (up to maxLevel), with its error: from the next finer
-  /// level, or past the first level from the one run before when that is within tolerance. Failures of the
-  /// curve are reported in the result; failures before it (rest state, preparation) throw.
+  /// estimated error is within tolerance (up to maxLevel), with its error (curveError). Failures
+  /// of the curve are reported in the result; failures before it (rest state, preparation) throw.
   ExperimentResult run(const Monitor& monitor = {});
 
  private:

@@ -44,7 +44,7 @@ class LocalTangent {
   // solves had neither the relaxation nor the preconditioner's block: the level-4 50-step curve
   // took 86 Newton iterations and 13.6-14.0 s, the error estimate's level-4 end point 7 and 4
   // factorisations; at 1,500, 65 iterations and 9.9-10.4 s, 4 and 2 (bench/README.md). A dense
-  // factorisation of 1,500 costs ~1 GFlop, a few of a level-4 sparse one.
+  // factorisation of 1,500 costs ~1 GFlop, a tenth of the level-4 sparse one (9.9 GFlop).
   static constexpr int kMaxSize = 1500;
 
   /// False (and inactive) when `unknowns` is empty or larger than kMaxSize, or, with `factor`,
