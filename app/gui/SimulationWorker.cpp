@@ -32,9 +32,6 @@ struct SimulationWorker::State {
   SimulationParams params;
   Schedule schedule;
   int autoLevel = MeshSettings{}.level;  // the level the automatic mesh uses now
-  // The end value of the run the automatic mesh refined from (level, value): what a finer run
-  // of the same schedule judges its error by first (Experiment::curveError).
-  std::pair<int, double> refinedFrom{-1, 0.0};
   int generation = 0;
   int preparation = 0;
   int depthSerial = 0;     // drag equilibria solved so far (an estimate waits for a pause)
@@ -293,20 +290,26 @@ void SimulationWorker::handle(const Prepare& r) {
 bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest& request,
                                bool newSite, bool keepLevel) {
   State& s = *s_;
-  ExperimentSettings settings = params.experimentSettings();
-  switch (request.kind) {
-    case SiteRequest::Kind::Top:
-      break;
-    case SiteRequest::Kind::Point:
-      settings.indentation.site = request.point;
-      break;
-    case SiteRequest::Kind::Current:
-      if (s.experiment && s.experiment->basePrepared())
-        settings.indentation.restSite = s.experiment->restSite();
-      break;
-    case SiteRequest::Kind::Rest:
-      settings.indentation.restSite = request.point;
-      break;
+  // Refining to run a curve again is the same experiment one level finer: its settings (site,
+  // schedule) stay as they are, so the end values it knows at other levels stay valid for the
+  // error of the finer run (Experiment::curveError).
+  const bool finer = keepLevel && s.experiment;
+  ExperimentSettings settings = finer ? s.experiment->settings() : params.experimentSettings();
+  if (!finer) {
+    switch (request.kind) {
+      case SiteRequest::Kind::Top:
+        break;
+      case SiteRequest::Kind::Point:
+        settings.indentation.site = request.point;
+        break;
+      case SiteRequest::Kind::Current:
+        if (s.experiment && s.experiment->basePrepared())
+          settings.indentation.restSite = s.experiment->restSite();
+        break;
+      case SiteRequest::Kind::Rest:
+        settings.indentation.restSite = request.point;
+        break;
+    }
   }
   // The automatic mesh starts again from its first level for a new site or new parameters; it
   // keeps the level it has reached when it refines to run a curve again.
@@ -508,10 +511,6 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
   monitor.cancel = &stop_;
   monitor.stage = [this](const std::string& what) { emit busy(q(what)); };
   const double value = force ? end.depth : end.force;
-  // A new site or new parameters on the way cleared what the experiment knew of the level
-  // refined from; this run is that level's refinement, with the same schedule.
-  if (rerun && s.refinedFrom.first == s.site->level - 1)
-    s.experiment->rememberEndValue(s.refinedFrom.first, s.refinedFrom.second);
   const MeshError e = s.experiment->curveError(s.site->level, value, monitor);
   MeshErrorReport report;
   report.preparation = s.preparation;
@@ -531,7 +530,6 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
   if (s.params.autoMesh && e.estimated() && e.relative > s.params.meshTolerance &&
       s.site->level < mesh.maxLevel) {
     // Not converged to the tolerance: one level finer, same site, and the curve again.
-    s.refinedFrom = {s.site->level, value};
     s.autoLevel = s.site->level + 1;
     emit busy(tr("Estimated error %1 is above the %2 asked: refining to level %3…")
                   .arg(q(percent(e.relative)), q(percent(s.params.meshTolerance)))
