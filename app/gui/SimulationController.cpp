@@ -190,11 +190,11 @@ void SimulationController::onFitFinished(const FitOutcome& outcome) {
       }
       c.meshLevel = r.curves[i].meshLevel;
       if (r.curves[i].meshError.estimated() && !r.curves[i].depth.empty()) {
-        // Of the force at the deepest point, on the mesh the fit chose at the starting values.
+        // Of the force at the deepest point, at the fitted values, on the mesh the fit ended on.
         c.meshError = r.curves[i].meshError.relative;
         c.meshErrorAt = r.curves[i].depth.back();
         c.meshErrorForce = false;
-        c.meshErrorMethod = r.curves[i].meshError.method + " (at the fit's starting values)";
+        c.meshErrorMethod = r.curves[i].meshError.method + " (at the fitted values)";
       }
       c.colour = nextColour_++;
       curves_.push_back(std::move(c));

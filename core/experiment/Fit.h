@@ -63,13 +63,16 @@ struct FitResult {
     std::vector<double> depth, measured, simulated;  // the points used (µm, µN, µN)
     double hertzModulus = 0;  // the measured curve's Hertz apparent modulus (MPa)
     int meshLevel = 0;
-    MeshError meshError;  // of the simulated end force at the starting values
+    MeshError meshError;  // of the simulated end force at the fitted values (automatic mesh)
   };
   std::vector<Curve> curves;
   const FitValue* find(const std::string& key) const;
 };
 
-/// Fits `settings` to the curves on `tissue`. A simulation that fails during the search is a
+/// Fits `settings` to the curves on `tissue`. With the automatic mesh the search starts on its
+/// first level and each curve's mesh error is then estimated at the fitted values; a curve whose
+/// error is above the tolerance there is refined (Experiment::run from the next level) and the
+/// search resumed from the fitted values, until none is. A simulation that fails during the search is a
 /// step Ceres rejects; failing at the start, or a cancel, throws (SolveFailure, Cancelled).
 /// Throws std::invalid_argument for nothing to fit or a curve without a positive depth.
 FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings& settings,
