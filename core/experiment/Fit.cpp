@@ -30,6 +30,7 @@ struct CurveEvaluation {
   std::vector<double> force;  // µN, 0 before contact
   Eigen::MatrixXd sens;       // points × 4
   Points turgid;              // the turgid state (the start of the next key's)
+  Eigen::MatrixXd response;   // how it moves with E, p, h (TurgidResponse::u; empty if unknown)
   Points end;                 // the state at the deepest point, at depth endDepth (µm)
   double endDepth = 0;
 };
@@ -135,7 +136,15 @@ class Problem {
     // The older slot takes this key (the newer one stays the last complete evaluation until
     // this one completes), starting from the newer one's turgid state.
     const int slot = 1 - c.newest;
-    const Points& guess = c.slots[c.newest].turgid;
+    const CurveEvaluation& from = c.slots[c.newest];
+    Points guess = from.turgid;
+    // To first order in the change of (E, p, h) (a fit's steps are a few per cent: its rest
+    // state then needs one or two Newton iterations instead of three or four).
+    if (guess.size() && from.response.rows() == guess.size() && from.response.cols() == 3) {
+      const Eigen::Vector3d change(key[0] - from.key[0], key[1] - from.key[1],
+                                   key[2] - from.key[2]);
+      guess.reshaped() += from.response * change;
+    }
     CurveEvaluation& out = c.slots[slot];
     out = CurveEvaluation();
     out.key = key;
@@ -172,6 +181,7 @@ class Problem {
       message_ = "the tangent of the turgid state could not be factorised";
       return nullptr;
     }
+    out.response = turgid.u;
     out.force.assign(c.depth.size(), 0.0);
     out.sens.setZero(c.depth.size(), 4);
     for (size_t k = 0; k < c.depth.size(); ++k) {
