@@ -31,8 +31,8 @@ struct CurveEvaluation {
   Eigen::MatrixXd sens;       // points × 4
   Points turgid;              // the turgid state (the start of the next key's)
   Eigen::MatrixXd response;   // how it moves with E, p, h (TurgidResponse::u; empty if unknown)
-  Points end;                 // the state at the deepest point, at depth endDepth (µm)
-  double endDepth = 0;
+  std::vector<Points> states;  // the equilibrium at each point (empty before contact)
+  double endDepth = 0;         // µm, the deepest point's depth (its state is states.back())
 };
 
 // One measured curve on its mesh (held during a search: a mesh that changed during the search
@@ -184,6 +184,7 @@ class Problem {
     out.response = turgid.u;
     out.force.assign(c.depth.size(), 0.0);
     out.sens.setZero(c.depth.size(), 4);
+    out.states.assign(c.depth.size(), Points());
     for (size_t k = 0; k < c.depth.size(); ++k) {
       const double d = c.depth[k] + offset;
       if (monitor_.cancelled()) {
@@ -191,7 +192,19 @@ class Problem {
         return nullptr;
       }
       if (d <= 0) continue;  // before contact: no force, nothing moves it but the offset's edge
-      const CurvePoint pt = ind.goToDepth(d);
+      // From the last parameters' equilibrium at this point moved as the last point moved
+      // between the two (the turgid state for the first): what changes with the parameters
+      // and with the depth is carried, only their interaction is left to Newton. Else, or
+      // if that does not converge, from the last point by the predictor along the depths.
+      CurvePoint pt;
+      if (from.complete && from.states.size() == c.depth.size() && from.states[k].size()) {
+        const bool first = k == 0 || from.states[k - 1].size() == 0 || out.states[k - 1].size() == 0;
+        const Points& now = first ? out.turgid : out.states[k - 1];
+        const Points& then = first ? from.turgid : from.states[k - 1];
+        if (now.cols() == then.cols())
+          pt = ind.solveFrom(d, false, from.states[k] + (now - then), d);
+      }
+      if (!pt.converged) pt = ind.goToDepth(d);
       if (!pt.converged) {
         message_ = "no equilibrium at depth " + std::to_string(d) + " um: " + ind.lastMessage();
         return nullptr;
@@ -203,10 +216,8 @@ class Problem {
         return nullptr;
       }
       out.sens.row(k) << sens.dE, sens.dp, sens.dh, sens.dDepth;
-      if (k + 1 == c.depth.size()) {
-        out.end = ind.state();
-        out.endDepth = d;
-      }
+      out.states[k] = ind.state();
+      out.endDepth = d;
     }
     out.complete = true;
     c.newest = slot;
@@ -582,7 +593,7 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
       es.mesh.level = c.level;
       Experiment e(tissue, es);
       monitor.say("Checking the mesh of " + curves[i].data.name + " at the fitted values…");
-      const Seed seed{c.mesh, at.turgid, at.end, at.endDepth};
+      const Seed seed{c.mesh, at.turgid, at.states.back(), at.endDepth};
       c.error = e.curveError(c.level, scale * at.force.back(), monitor, &seed);
       if (c.error.estimated() && c.error.relative <= es.mesh.tolerance) continue;
       if (c.level >= es.mesh.maxLevel) continue;  // reported with its error
