@@ -664,10 +664,17 @@ int runFit(const FitArgs& a) {
         std::printf("# correlation %s-%s %.3f\n", r.fittedKeys[i].c_str(), r.fittedKeys[j].c_str(),
                     r.correlation(i, j));
     std::printf("# rms residual %.4g uN (at the start %.4g uN)\n", r.rms, r.rmsStart);
-    for (size_t i = 0; i < r.curves.size(); ++i)
-      std::printf("# %s: %zu points, mesh level %d, Hertz apparent modulus %.4g MPa\n",
-                  curves[i].data.name.c_str(), r.curves[i].depth.size(), r.curves[i].meshLevel,
-                  r.curves[i].hertzModulus);
+    for (size_t i = 0; i < r.curves.size(); ++i) {
+      std::printf("# %s: %zu points, mesh level %d", curves[i].data.name.c_str(),
+                  r.curves[i].depth.size(), r.curves[i].meshLevel);
+      // The automatic mesh's error at the fitted values: the simulated forces, and E (∝ them)
+      // with them, carry it on top of the intervals above.
+      if (r.curves[i].meshError.estimated())
+        std::printf(" (estimated discretisation error +-%.2g %% of the force at the deepest "
+                    "point, at the fitted values)",
+                    100 * r.curves[i].meshError.relative);
+      std::printf(", Hertz apparent modulus %.4g MPa\n", r.curves[i].hertzModulus);
+    }
     if (!r.advice.empty()) std::printf("# %s\n", r.advice.c_str());
   }
   std::vector<std::pair<std::string, std::function<void(std::ostream&)>>> outputs;

@@ -540,11 +540,17 @@ void MainWindow::showFit(const FitOutcome& outcome) {
                   .arg(QString::fromStdString(r.fittedKeys[j]))
                   .arg(r.correlation(i, j), 0, 'f', 3);
   text += tr("rms residual %1 µN (%2 µN at the start)\n").arg(r.rms, 0, 'g', 3).arg(r.rmsStart, 0, 'g', 3);
-  for (size_t i = 0; i < r.curves.size(); ++i)
-    text += tr("curve %1: Hertz apparent modulus %2 MPa, mesh level %3\n")
+  for (size_t i = 0; i < r.curves.size(); ++i) {
+    text += tr("curve %1: Hertz apparent modulus %2 MPa, mesh level %3")
                 .arg(i + 1)
                 .arg(r.curves[i].hertzModulus, 0, 'g', 4)
                 .arg(r.curves[i].meshLevel);
+    // The automatic mesh's error at the fitted values, which E (∝ the forces) carries too.
+    if (r.curves[i].meshError.estimated())
+      text += tr(" (discretisation error ±%1 % at the fitted values)")
+                  .arg(100 * r.curves[i].meshError.relative, 0, 'g', 2);
+    text += "\n";
+  }
   if (!r.converged) text += tr("\nThe fit did not converge: %1\n").arg(outcome.message);
   if (!r.advice.empty()) text += "\n" + QString::fromStdString(r.advice);
   QMessageBox box(r.identifiable && r.converged ? QMessageBox::Information : QMessageBox::Warning,
