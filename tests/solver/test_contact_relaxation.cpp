@@ -190,3 +190,25 @@ TEST(ContactRelaxation, CurvesWithAndWithoutItAgreeAndItSavesIterations) {
   std::printf("Newton iterations for the curve: %d with the contact patch's solves, %d without\n",
               itsWith, itsWithout);
 }
+
+TEST(ContactRelaxation, AStartNearTheSolutionTakesAnExactNewtonStepFromTheFirst) {
+  // A solve started within a thousand times its tolerance of the solution (a fit's points start
+  // from the last parameters' equilibria moved to first order) takes the exact tangent from its
+  // first iteration: one step, and quadratic convergence far below the tolerance. With the
+  // contact Hessian's positive part (the first iteration's choice further away) the step gained
+  // only ~100×: 7.7e-8 → 6.7e-10 relative, and a second iteration for 1e-10.
+  Pressed p(0.3);
+  const Points solved = p.x;
+  for (double move : {1e-9, 2e-9}) {  // µm: starts at ~4e-8 and ~8e-8 of the load scale
+    SolverOptions o;
+    o.tolerance = 1e-10;
+    StaticSolver solver(p.model, o);
+    Points x = solved;
+    p.setDepth(0.3 + move);
+    const SolveReport rep = solver.solve(x);
+    EXPECT_TRUE(rep.converged) << rep.message;
+    EXPECT_EQ(rep.iterations, 1) << "move " << move;
+    EXPECT_LT(rep.relativeResidual(), 1e-3 * o.tolerance) << "move " << move;
+    p.setDepth(0.3);
+  }
+}
