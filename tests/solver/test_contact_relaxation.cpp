@@ -192,7 +192,7 @@ TEST(ContactRelaxation, CurvesWithAndWithoutItAgreeAndItSavesIterations) {
 }
 
 TEST(ContactRelaxation, AStartNearTheSolutionTakesAnExactNewtonStepFromTheFirst) {
-  // A solve started within a thousand times its tolerance of the solution (a fit's points start
+  // A solve started near the solution (within 1e4 × its tolerance; a fit's points start
   // from the last parameters' equilibria moved to first order) takes the exact tangent from its
   // first iteration: one step, and quadratic convergence far below the tolerance. With the
   // contact Hessian's positive part (the first iteration's choice further away) the step gained
