@@ -7,37 +7,14 @@
 
 #include "experiment/Fit.h"
 #include "experiment/Sensitivity.h"
-#include "tissue/Shapes.h"
+#include "support/FitBox.h"
 
 using namespace tp;
 
 namespace {
 
-std::shared_ptr<const CellComplex> tissue() {
-  static const auto cc = std::make_shared<const CellComplex>(boxTissue(3, 3, 2, 5.0));
-  return cc;
-}
-
-ExperimentSettings settings(double E, double p) {
-  ExperimentSettings s;
-  s.material.youngModulus = E;
-  s.material.poissonRatio = 0.3;
-  s.material.thickness = 0.2;
-  s.pressure = p;
-  s.indentation.probeRadius = 1.0;
-  s.indentation.restSite = Vec3(7.9, 7.3, 10.0);  // a material point of the top wall
-  // The axis held, as an AFM's: by default it would be the surface normal of the turgid state
-  // at the starting values, and a synthetic curve made at other values would not be the
-  // model's own (measured: the fit then stops 5e-4 off in p).
-  s.indentation.axis = Vec3(0, 0, -1);
-  s.indentation.maxDepth = 0.4;
-  s.indentation.steps = 8;
-  s.mesh.automatic = false;
-  s.mesh.level = 0;
-  s.mesh.estimateError = false;
-  s.solver.tolerance = 1e-11;  // as the fit solves: the synthetic data as exact as its model
-  return s;
-}
+std::shared_ptr<const CellComplex> tissue() { return test::fitBox(); }
+ExperimentSettings settings(double E, double p) { return test::fitBoxSettings(E, p); }
 
 // The model's own curve at (E, p), as a measured curve; `noise` adds ±noise·F alternately.
 MeasuredCurve synthetic(double E, double p, double noise = 0) {

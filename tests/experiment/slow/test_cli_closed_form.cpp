@@ -85,9 +85,10 @@ TEST(ClosedFormThroughCli, ThinSphereReissnerAndVella) {
     const double R = R0 * (1 + p * R0 * (1 - nu) / (2 * E * h));  // inflated (small strain)
     const double t = p * R * R / (4 * std::sqrt(B * Y));
     const double vella = 4 * pi * std::sqrt(B * Y) / R * std::sqrt(t * t - 1) / std::acosh(t);
-    char args[200];
-    std::snprintf(args, sizeof args, "%s--pressure %.9g --probe-radius 0.05", material, p);
-    expectClose(indent(cap, args), vella, "Vella, tau " + std::to_string(tau));
+    char pressure[64];
+    std::snprintf(pressure, sizeof pressure, "%.9g", p);
+    expectClose(indent(cap, std::string(material) + "--pressure " + pressure + " --probe-radius 0.05"),
+                vella, "Vella, tau " + std::to_string(tau));
   }
 }
 

@@ -6,33 +6,20 @@
 #include <cstdio>
 
 #include "experiment/Fit.h"
-#include "tissue/Shapes.h"
+#include "support/FitBox.h"
 
 using namespace tp;
 
 namespace {
 
-std::shared_ptr<const CellComplex> fitMeshTissue() {
-  static const auto cc = std::make_shared<const CellComplex>(boxTissue(3, 3, 2, 5.0));
-  return cc;
-}
+std::shared_ptr<const CellComplex> fitMeshTissue() { return test::fitBox(); }
 
-// The automatic mesh from level `first` with a 5 % tolerance, on the top wall of the box
-// (ν = 0.3, h = 0.2 µm, a 1 µm probe along −z, 8 steps to 0.4 µm, equilibria to 1e-11).
+// The automatic mesh from level `first` with a 5 % tolerance, else as the fit tests' settings.
 ExperimentSettings automaticAt(double E, double p, int first) {
-  ExperimentSettings s;
-  s.material.youngModulus = E;
-  s.material.poissonRatio = 0.3;
-  s.material.thickness = 0.2;
-  s.pressure = p;
-  s.indentation.probeRadius = 1.0;
-  s.indentation.restSite = Vec3(7.9, 7.3, 10.0);
-  s.indentation.axis = Vec3(0, 0, -1);
-  s.indentation.maxDepth = 0.4;
-  s.indentation.steps = 8;
-  s.solver.tolerance = 1e-11;
+  ExperimentSettings s = test::fitBoxSettings(E, p);
   s.mesh.automatic = true;
   s.mesh.level = first;
+  s.mesh.estimateError = true;
   s.mesh.tolerance = 0.05;
   return s;
 }
