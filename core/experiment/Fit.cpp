@@ -548,9 +548,10 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
   // The search, from φ as it stands; with the automatic mesh, checked at the values found and
   // run again from them on the meshes they need, until every curve's mesh is the one the
   // automatic refinement chooses at the fitted values. The mesh error that matters is the one
-  // at the answer, not at the starting values (30 % off in BM_FitSpeed, where it chose level 4
-  // against level 3 at the answer: 141 s instead of — bench/README.md); and the mesh starts
-  // at the automatic mesh's first level, so no finer level than the answer needs is solved.
+  // at the answer, not at the starting values (30 % off in BM_FitSpeed, where they chose level
+  // 4 against level 3 at the answer: 139 s against 37.5–45 s, bench/README.md); and the mesh
+  // starts at the automatic mesh's first level, so no finer level than the answer needs is
+  // solved.
   for (;;) {
     ceres::Problem cp;
     cp.AddResidualBlock(new Cost(evaluate, m, searched), nullptr, phi.data());  // owned by cp

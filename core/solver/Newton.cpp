@@ -444,8 +444,7 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // unless the exact tangent has already failed to be positive definite in this solve or the
   // last one: then the positive part again (one factorisation per iteration instead of two,
   // at the price of a linear rate in the contact's curvature term, which is small).
-  // (Or, from a start already near the solution, the exact tangent at once: see solve().)
-  const double target = std::max(options_.tolerance * r.rep.loadScale, r.noiseFloor);
+  // (Or, from a start already near the solution, the exact tangent at once: see solveImpl.)
   const bool projectFirst =
       options_.projectContactHessian && ((it == 0 && !r.nearStart) || r.projectContact);
   // A chord step: once the last iteration cut the residual a hundredfold and the relaxation has
@@ -500,6 +499,7 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     // pcgTolerance is used, as Eisenstat and Walker's forcing term would ("Choosing the forcing
     // terms in an inexact Newton method", SIAM J. Sci. Comput. 17, 1996: η_k = 0.9 (‖g_k‖ /
     // ‖g_k−1‖)², above 0.009 for such a fall, capped here).
+    const double target = std::max(options_.tolerance * r.rep.loadScale, r.noiseFloor);
     const bool slow = r.lastResidual > 0 && r.rep.residual > 0.1 * r.lastResidual;
     const double eta = slow ? options_.pcgTolerance
                             : std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
