@@ -198,6 +198,15 @@ class Experiment {
   MeshError curveError(int level, double value, const Monitor& monitor = {},
                        const Seed* seed = nullptr);
 
+  /// While on, the site an error estimate solves (the next finer level) is kept, and a run()
+  /// that reaches that level starts from it instead of refining and solving it again (run()
+  /// turns it on for itself, and off with what it kept when it ends). Off by default: a kept
+  /// site holds a finer mesh's model and factor.
+  void setKeepEstimatedSite(bool keep) {
+    keepEstimated_ = keep;
+    if (!keep) estimated_.reset();
+  }
+
   /// The whole workflow: the curve at the fixed level, or (automatic) at the first level whose
   /// estimated error is within tolerance (up to maxLevel), with its error (curveError). Failures
   /// of the curve are reported in the result; failures before it (rest state, preparation) throw.

@@ -593,6 +593,7 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
       es.indentation.axis = c.axis;
       es.mesh.level = c.level;
       Experiment e(tissue, es);
+      e.setKeepEstimatedSite(true);  // the next level's site, if the search must go on there
       monitor.say("Checking the mesh of " + curves[i].data.name + " at the fitted values…");
       const Seed seed{c.mesh, at.turgid, at.states.back(), at.endDepth};
       c.error = e.curveError(c.level, scale * at.force.back(), monitor, &seed);
