@@ -54,6 +54,9 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   labelFont_ = plot_->xAxis->labelFont();
   tickFont_ = plot_->xAxis->tickLabelFont();
   legendFont_ = plot_->legend->font();
+  connect(plot_, &QCustomPlot::afterLayout, this, [this] {
+    if (placeLegend()) plot_->replot(QCustomPlot::rpQueuedReplot);
+  });
 
   list_ = new QListWidget;
   list_->setObjectName("curveList");
@@ -126,8 +129,7 @@ QString label(const NamedCurve& c) {
 }
 
 // The legend's shorter entry: the name without the site's coordinates (they are in the list
-// and its tooltips) and the error, so that the legend in the top-left corner stays clear of
-// curves rising to the right.
+// and its tooltips) and the error, so that the legend stays clear of the curves (placeLegend).
 QString legendLabel(const NamedCurve& c) {
   QString name = QString::fromStdString(c.name);
   if (c.measured) return name;
@@ -245,7 +247,50 @@ void PlotPanel::redraw() {
   }
   showResiduals(nd);
   plot_->legend->setVisible(!curves_.empty());
+  placeLegend();
   plot_->replot(QCustomPlot::rpQueuedReplot);
+}
+
+// The legend goes in the corner of the axes where it hides the fewest points of the curves: the
+// top left, where rising force–depth curves leave room, unless the curves pass there (a tall
+// legend over axes squeezed by the residual strip, a curve that rises steeply and levels off);
+// then the bottom right, the top right or the bottom left, whichever hides fewest (and when none
+// is free, the legend lets the points show through). Judged on the axes' size at the last
+// layout, and again after each layout (a resized plot): true when it moved.
+bool PlotPanel::placeLegend() {
+  QCPLayoutInset* inset = plot_->axisRect()->insetLayout();
+  const int index = inset->elements(false).indexOf(plot_->legend);
+  if (index < 0 || !plot_->legend->visible()) return false;
+  const QRect axes = plot_->axisRect()->rect();
+  const QSize legend = plot_->legend->minimumOuterSizeHint();
+  if (axes.width() <= 0 || axes.height() <= 0) return false;
+  const double fw = std::min(1.0, (legend.width() + 12.0) / axes.width());
+  const double fh = std::min(1.0, (legend.height() + 12.0) / axes.height());
+  const QCPRange xr = plot_->xAxis->range(), yr = plot_->yAxis->range();
+  if (xr.size() <= 0 || yr.size() <= 0) return false;
+  const Qt::Alignment corners[] = {Qt::AlignTop | Qt::AlignLeft, Qt::AlignBottom | Qt::AlignRight,
+                                   Qt::AlignTop | Qt::AlignRight, Qt::AlignBottom | Qt::AlignLeft};
+  int hidden[4] = {0, 0, 0, 0};
+  for (int g = 0; g < plot_->graphCount(); ++g) {
+    if (plot_->graph(g)->keyAxis() != plot_->xAxis) continue;  // the residual strip's
+    for (const QCPGraphData& d : *plot_->graph(g)->data()) {
+      const double fx = (d.key - xr.lower) / xr.size(), fy = (d.value - yr.lower) / yr.size();
+      const bool left = fx <= fw, right = fx >= 1 - fw, top = fy >= 1 - fh, bottom = fy <= fh;
+      hidden[0] += top && left;
+      hidden[1] += bottom && right;
+      hidden[2] += top && right;
+      hidden[3] += bottom && left;
+    }
+  }
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (hidden[k] < hidden[best]) best = k;
+  // Axes too small for a free corner: the points under the legend show through it.
+  const QColor background(255, 255, 255, hidden[best] > 0 ? 140 : 220);
+  if (plot_->legend->brush().color() != background) plot_->legend->setBrush(background);
+  if (inset->insetAlignment(index) == corners[best]) return false;
+  inset->setInsetAlignment(index, corners[best]);
+  return true;
 }
 
 void PlotPanel::showResiduals(bool nd) {
@@ -338,7 +383,10 @@ class LegendPlacement {
       f.setPointSizeF(std::max(5.0, f.pointSizeF() * 0.95 * size.width() / wide));
       plot_->legend->setFont(f);
     }
-    plot_->axisRect()->insetLayout()->take(plot_->legend);
+    QCPLayoutInset* inset = plot_->axisRect()->insetLayout();
+    const int index = inset->elements(false).indexOf(plot_->legend);
+    if (index >= 0) alignment_ = inset->insetAlignment(index);
+    inset->take(plot_->legend);
     holder_ = new QCPLayoutGrid;
     QCPLayoutGrid* grid = plot_->plotLayout();
     if (right) {  // legend on top, a spacer under it taking the height
@@ -364,7 +412,7 @@ class LegendPlacement {
     holder_->take(plot_->legend);
     plot_->plotLayout()->remove(holder_);  // deletes it and the spacer
     plot_->plotLayout()->simplify();
-    plot_->axisRect()->insetLayout()->addElement(plot_->legend, Qt::AlignTop | Qt::AlignLeft);
+    plot_->axisRect()->insetLayout()->addElement(plot_->legend, alignment_);
     plot_->replot(QCustomPlot::rpQueuedReplot);
   }
   LegendPlacement(const LegendPlacement&) = delete;
@@ -375,6 +423,7 @@ class LegendPlacement {
   QFont font_;
   QBrush brush_;
   bool visible_ = true;
+  Qt::Alignment alignment_ = Qt::AlignTop | Qt::AlignLeft;  // in the axes, on screen
   QCPLayoutGrid* holder_ = nullptr;
 };
 

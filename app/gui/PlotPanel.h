@@ -86,6 +86,7 @@ class PlotPanel : public QWidget {
   /// The strip under the curves with a fit's residuals (measured − simulated), shown while a
   /// curve has them; its depth axis follows the plot's.
   void showResiduals(bool nondimensional);
+  bool placeLegend();
 
   QCustomPlot* plot_;
   QCPAxisRect* residualRect_ = nullptr;

@@ -1,8 +1,9 @@
 // The force-depth plot: a curve's unloading branch is drawn apart from its loading branch
 // (dotted, from the deepest loading point, no second legend entry), and each curve keeps its
-// colour when another is removed.
+// colour when another is removed; the legend sits in a corner the curves leave free.
 #include <QListWidget>
 #include <QTest>
+#include <cmath>
 
 #include <qcustomplot.h>
 
@@ -56,6 +57,32 @@ class PlotTest : public QObject {
     QVERIFY(list);
     QVERIFY(list->item(0)->text().startsWith("site 2 (13.8, -29.8, 32.3) µm"));
     QCOMPARE(list->textElideMode(), Qt::ElideRight);
+  }
+
+  // A rising curve leaves the top left free; one that rises at once and levels off fills the
+  // top of the axes, and the legend goes to the bottom right, where it hides no point.
+  void theLegendGoesWhereTheCurvesLeaveRoom() {
+    PlotPanel panel;
+    panel.resize(900, 420);
+    QCustomPlot* plot = panel.plot();
+    auto corner = [&] {
+      plot->replot(QCustomPlot::rpImmediateRefresh);  // lays the axes out; the legend follows
+      QCPLayoutInset* inset = plot->axisRect()->insetLayout();
+      return inset->insetAlignment(inset->elements(false).indexOf(plot->legend));
+    };
+    panel.setCurves({curve("rising", 0, false)}, 5.0);
+    QCOMPARE(corner(), Qt::AlignTop | Qt::AlignLeft);
+    NamedCurve level = curve("levels off", 1, false);
+    level.points.clear();
+    for (int k = 0; k <= 60; ++k) {
+      const double d = 0.005 * k;
+      level.points.push_back(tp::CurvePoint{d, 3 * (1 - std::exp(-d / 0.01)), 1, 0.0, true, false});
+    }
+    panel.setCurves({level}, 5.0);
+    QCOMPARE(corner(), Qt::AlignBottom | Qt::AlignRight);
+    // Back to the rising curve alone: back to the top left.
+    panel.setCurves({curve("rising", 0, false)}, 5.0);
+    QCOMPARE(corner(), Qt::AlignTop | Qt::AlignLeft);
   }
 
   void coloursFollowTheCurveNotItsPlace() {
