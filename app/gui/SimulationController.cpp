@@ -272,6 +272,12 @@ void SimulationController::recordSite(const Eigen::Vector3d& site, bool isNew) {
 }
 
 void SimulationController::onSnapshot(const Snapshot& s) {
+  // The equilibrium shown before this one, of the same preparation: where a drag that begins
+  // now starts from (a run's last point, say).
+  CurvePoint before{0.0, 0.0, 0, 0.0, true, false};  // else first contact
+  if (latest_.phase == Snapshot::Phase::Equilibrium && latest_.preparation == s.preparation &&
+      latest_.point)
+    before = *latest_.point;
   latest_ = s;
   ++snapshotCount_;
   if (s.phase == Snapshot::Phase::Prepared && s.preparation != lastPreparation_) {
@@ -290,7 +296,10 @@ void SimulationController::onSnapshot(const Snapshot& s) {
       c.preparation = s.preparation;
       c.meshLevel = s.geometry ? s.geometry->meshLevel : -1;
       c.name = uniqueName(curveName(currentSite_ + 1, s.site, s.params, true));
-      c.points.push_back(CurvePoint{0.0, 0.0, 0, 0.0, true, false});
+      // Its first point is the state it starts from: first contact after a site is prepared,
+      // or where a run ended (not the origin, which such a drag never passed through: its
+      // curve was drawn with a straight line from there).
+      c.points.push_back(before);
       c.colour = nextColour_++;
       curves_.push_back(std::move(c));
       index = static_cast<int>(curves_.size()) - 1;

@@ -129,6 +129,20 @@ class ControllerTest : public QObject {
     waitIdle(c);
     QCOMPARE(int(c.curves().back().points.size()), 3);
 
+    // A drag after the run starts where the run ended (its curve's first point is the run's
+    // last), not at the origin it never passed through.
+    const tp::CurvePoint end = c.curves().back().points.back();
+    const int curves = int(c.curves().size());
+    c.requestDepth(end.depth + 0.02);
+    waitIdle(c);
+    QTRY_COMPARE_WITH_TIMEOUT(int(c.curves().size()), curves + 1, 10000);
+    const NamedCurve& drag = c.curves().back();
+    QVERIFY(drag.live);
+    QCOMPARE(int(drag.points.size()), 2);
+    QCOMPARE(drag.points.front().depth, end.depth);
+    QCOMPARE(drag.points.front().force, end.force);
+    QVERIFY(drag.points.back().force > end.force);
+
     // New parameters: prepared again at the same site.
     const int preparation = c.latest().preparation;
     const Eigen::Vector3d site = c.latest().site;
