@@ -466,8 +466,21 @@ MeshError Experiment::curveError(int level, double value, const Monitor& monitor
   endValues_[level] = value;
   const MeshSettings& mesh = settings_.mesh;
   if (mesh.automatic) {
-    const auto coarser = endValues_.find(level - 1);
-    if (coarser != endValues_.end()) {
+    auto coarser = endValues_.find(level - 1);
+    // Past the first level the level before decides first: an automatic search has run it; a
+    // check of a finer mesh at new values (a fit's) solves it here — a coarser mesh, seconds,
+    // where the finer one takes minutes. If it fails, the finer level decides.
+    if (coarser == endValues_.end() && level > mesh.level) {
+      const bool keep = keepEstimated_;
+      keepEstimated_ = false;  // the site kept is the finer one's, for a search going on
+      try {
+        endValue(level - 1, monitor, seed);
+      } catch (const SolveFailure&) {
+      }
+      keepEstimated_ = keep;
+      coarser = endValues_.find(level - 1);
+    }
+    if (coarser != endValues_.end() && std::isfinite(coarser->second)) {
       MeshError e = estimateMeshErrorFromCoarser(level, value, level - 1, coarser->second);
       if (e.estimated() && e.relative <= mesh.tolerance) return e;
     }

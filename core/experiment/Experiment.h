@@ -191,10 +191,11 @@ class Experiment {
   MeshError estimateError(int level, double value, const Monitor& monitor = {},
                           const Seed* seed = nullptr);
   /// The error of a curve's end value at `level` as the mesh settings judge it: with the
-  /// automatic mesh, from the next coarser level's end value when one is known for these
-  /// settings (an automatic search past its first level ran it) and that estimate is within the
-  /// tolerance (estimateMeshErrorFromCoarser); otherwise from the next finer level
-  /// (estimateError). What run() and the application's curve runs report.
+  /// automatic mesh past its first level (`level` > mesh.level), from the next coarser level's
+  /// end value (known when an automatic search ran it, else solved here, seeded by `seed`) when
+  /// that estimate is within the tolerance (estimateMeshErrorFromCoarser); otherwise from the
+  /// next finer level (estimateError). What run(), the application's curve runs and a fit's
+  /// check at its fitted values report.
   MeshError curveError(int level, double value, const Monitor& monitor = {},
                        const Seed* seed = nullptr);
 

@@ -591,21 +591,11 @@ FitResult fitCurves(std::shared_ptr<const CellComplex> tissue, const FitSettings
       es.indentation.site.reset();  // the material point and axis the mesh was refined at
       es.indentation.restSite = c.restSite;
       es.indentation.axis = c.axis;
-      es.mesh.level = c.level;
-      Experiment e(tissue, es);
+      Experiment e(tissue, es);  // the automatic mesh's first level: curveError judges a finer
+                                 // one from the level before first, as Experiment::run does
+      e.setKeepEstimatedSite(true);  // the next level's site, if the search must go on there
       monitor.say("Checking the mesh of " + curves[i].data.name + " at the fitted values…");
       const Seed seed{c.mesh, at.turgid, at.states.back(), at.endDepth};
-      // Past the automatic mesh's first level, as Experiment::run does: the level before at
-      // these values first (a coarser mesh, seconds), whose difference may already show the
-      // error within the tolerance (Experiment::curveError), before a finer one (minutes).
-      if (c.level > settings.start.mesh.level) {
-        try {
-          e.endValue(c.level - 1, monitor, &seed);
-        } catch (const SolveFailure&) {
-          // then the finer level decides, as without it
-        }
-      }
-      e.setKeepEstimatedSite(true);  // the next level's site, if the search must go on there
       c.error = e.curveError(c.level, scale * at.force.back(), monitor, &seed);
       if (c.error.estimated() && c.error.relative <= es.mesh.tolerance) continue;
       if (c.level >= es.mesh.maxLevel) continue;  // reported with its error
