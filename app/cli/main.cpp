@@ -498,7 +498,7 @@ struct FitArgs {
   std::vector<std::string> curves, plasmolysed;
   std::string fit = "E,p";
   std::string depthColumn, forceColumn, depthUnit, forceUnit;
-  int maxPoints = 25, maxIterations = 30;
+  int maxPoints = 25, maxIterations = 30, simulatedDepths = 10;
   std::optional<double> contactHeight;
   std::string report, out;
 };
@@ -574,6 +574,7 @@ nlohmann::json fitReport(const FitResult& r, const FitArgs& a, const ExperimentS
     const auto& c = r.curves[i];
     json e = {{"file", curves[i].data.name},
               {"points_used", c.depth.size()},
+              {"depths_simulated", c.simulatedDepths},
               {"pressure_held_MPa", curves[i].pressure ? json(*curves[i].pressure) : json(nullptr)},
               {"hertz_apparent_modulus_MPa", c.hertzModulus},
               {"mesh_level", c.meshLevel}};
@@ -619,6 +620,10 @@ int runFit(const FitArgs& a) {
   }
   if (a.maxPoints < 2) throw UsageError("--max-points: at least 2, got " + std::to_string(a.maxPoints));
   fs.maxPoints = a.maxPoints;
+  if (a.simulatedDepths != 0 && a.simulatedDepths < 2)
+    throw UsageError("--simulated-depths: 0 (every point) or at least 2, got " +
+                     std::to_string(a.simulatedDepths));
+  fs.simulatedDepths = a.simulatedDepths;
   fs.maxIterations = a.maxIterations;
   MeasuredColumns columns{a.depthColumn, a.forceColumn, a.depthUnit, a.forceUnit};
   std::vector<FitCurve> curves;
@@ -665,8 +670,9 @@ int runFit(const FitArgs& a) {
                     r.correlation(i, j));
     std::printf("# rms residual %.4g uN (at the start %.4g uN)\n", r.rms, r.rmsStart);
     for (size_t i = 0; i < r.curves.size(); ++i) {
-      std::printf("# %s: %zu points, mesh level %d", curves[i].data.name.c_str(),
-                  r.curves[i].depth.size(), r.curves[i].meshLevel);
+      std::printf("# %s: %zu points (simulated at %d depths), mesh level %d",
+                  curves[i].data.name.c_str(), r.curves[i].depth.size(),
+                  r.curves[i].simulatedDepths, r.curves[i].meshLevel);
       // The automatic mesh's error at the fitted values: the simulated forces, and E (∝ them)
       // with them, carry it on top of the intervals above.
       if (r.curves[i].meshError.estimated())
@@ -974,6 +980,10 @@ int main(int argc, char** argv) {
                   "JPK curves: the piezo height at contact, um (default: estimated where the "
                   "force leaves the baseline's noise)");
   fit->add_option("--max-points", fa.maxPoints, "Measured points used per curve")
+      ->capture_default_str();
+  fit->add_option("--simulated-depths", fa.simulatedDepths,
+                  "Depths simulated per curve, evenly spread over its points; the force between "
+                  "them is interpolated (cubic Hermite with the simulated slope). 0: every point")
       ->capture_default_str();
   fit->add_option("--max-iterations", fa.maxIterations, "Levenberg-Marquardt iterations at most")
       ->capture_default_str();

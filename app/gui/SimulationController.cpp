@@ -138,7 +138,6 @@ bool SimulationController::fitMeasuredCurves(bool E, bool p, bool h, bool offset
   fs.fitP = p;
   fs.fitH = h;
   fs.fitOffset = offset;
-  fs.maxPoints = 15;  // each point costs an equilibrium and its sensitivities
   std::vector<FitCurve> data;
   for (const NamedCurve& c : curves_) {
     if (!c.measured) continue;

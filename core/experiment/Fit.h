@@ -34,6 +34,10 @@ struct FitSettings {
   bool fitOffset = false;  // a contact-point offset per curve (µm, added to the model's depth)
   int maxIterations = 30;
   int maxPoints = 25;  // measured points used per curve, evenly spread over its depths
+  // Depths simulated per curve, evenly spread over its points' depths; the force at the points
+  // between them is a cubic Hermite interpolant with the simulated slope (Fit.cpp). 0: every
+  // point is simulated.
+  int simulatedDepths = 10;
   // With E and p both fitted (and any held turgor 0), search over p/E with E in closed form
   // (variable projection, Fit.cpp); off: over E and p together, as a check of the former.
   bool factorOutModulus = true;
@@ -62,6 +66,7 @@ struct FitResult {
   struct Curve {
     std::vector<double> depth, measured, simulated;  // the points used (µm, µN, µN)
     double hertzModulus = 0;  // the measured curve's Hertz apparent modulus (MPa)
+    int simulatedDepths = 0;  // the depths simulated at the fit (FitSettings::simulatedDepths)
     int meshLevel = 0;
     MeshError meshError;  // of the simulated end force at the fitted values (automatic mesh)
   };

@@ -458,6 +458,7 @@ TEST(Cli, FitReadsBackTheModulusAndTurgorOfCurvesItSimulated) {
   EXPECT_THAT(json, HasSubstr("\"ci95\""));
   EXPECT_THAT(json, HasSubstr("\"identifiable\": true"));
   EXPECT_THAT(json, HasSubstr("\"pressure_held_MPa\": 0.0"));
+  EXPECT_THAT(json, HasSubstr("\"depths_simulated\": 8"));  // 8 at positive depth, ≤ 10: each
   std::ifstream csv(out);
   std::string header;
   std::getline(csv, header);
@@ -470,6 +471,9 @@ TEST(Cli, FitReadsBackTheModulusAndTurgorOfCurvesItSimulated) {
   CliRun bad = cli("fit" + where + " --curve " + turgid + " --fit E,q");
   EXPECT_EQ(bad.status, 2);
   EXPECT_THAT(bad.output, HasSubstr("--fit: 'q' is not one of E, p, h, offset"));
+  bad = cli("fit" + where + " --curve " + turgid + " --simulated-depths 1");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.output, HasSubstr("--simulated-depths: 0 (every point) or at least 2, got 1"));
   bad = cli("fit" + where + " --curve " + tmp("no_such_curve.csv"));
   EXPECT_EQ(bad.status, 2);
   EXPECT_THAT(bad.output, HasSubstr("no file"));

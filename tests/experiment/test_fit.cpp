@@ -17,8 +17,10 @@ std::shared_ptr<const CellComplex> tissue() { return test::fitBox(); }
 ExperimentSettings settings(double E, double p) { return test::fitBoxSettings(E, p); }
 
 // The model's own curve at (E, p), as a measured curve; `noise` adds ±noise·F alternately.
-MeasuredCurve synthetic(double E, double p, double noise = 0) {
-  Experiment e(tissue(), settings(E, p));
+MeasuredCurve synthetic(double E, double p, double noise = 0, int steps = 8) {
+  ExperimentSettings es = settings(E, p);
+  es.indentation.steps = steps;
+  Experiment e(tissue(), es);
   const ExperimentResult r = e.run();
   EXPECT_TRUE(r.complete) << r.message;
   MeasuredCurve m;
@@ -135,6 +137,37 @@ TEST(Fit, FactoringOutTheModulusChangesNeitherTheFitNorItsIntervals) {
   }
   EXPECT_NEAR(scaled.correlation(0, 1), joint.correlation(0, 1), 1e-3);
   EXPECT_NEAR(scaled.rms, joint.rms, 1e-4 * joint.rms);
+}
+
+TEST(Fit, ForcesBetweenTheSimulatedDepthsAreTheirInterpolantToATenThousandth) {
+  // 41 points a curve, simulated at 10 depths and interpolated between them (the default), and
+  // at every point: the same values, each within a thousandth of the truth, and the exact
+  // curves fitted to a ten-thousandth of their force by the interpolant.
+  FitSettings fs;
+  fs.start = settings(100, 0.8);
+  fs.maxPoints = 41;
+  const std::vector<FitCurve> curves = {FitCurve{synthetic(60, 0.3, 0, 40), {}, {}},
+                                        FitCurve{synthetic(60, 0.0, 0, 40), {}, 0.0}};
+  const FitResult nodes = fitCurves(tissue(), fs, curves);
+  fs.simulatedDepths = 0;
+  const FitResult every = fitCurves(tissue(), fs, curves);
+  ASSERT_TRUE(nodes.converged) << nodes.message;
+  ASSERT_TRUE(every.converged) << every.message;
+  std::printf("  10 depths: E %.7g, p %.7g, rms %.3g uN\n  40 depths: E %.7g, p %.7g, rms %.3g uN\n",
+              nodes.find("E")->value, nodes.find("p")->value, nodes.rms, every.find("E")->value,
+              every.find("p")->value, every.rms);
+  ASSERT_EQ(nodes.curves.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(nodes.curves[i].depth.size(), 41u);
+    EXPECT_EQ(nodes.curves[i].simulatedDepths, 10);  // depth 0 has no force: 40 positive
+    EXPECT_EQ(every.curves[i].simulatedDepths, 40);
+    EXPECT_LT(nodes.rms, 1e-4 * nodes.curves[i].measured.back());
+  }
+  for (const std::string key : {"E", "p"}) {
+    const double truth = key == "E" ? 60.0 : 0.3;
+    EXPECT_NEAR(nodes.find(key)->value, truth, 1e-3 * truth) << key;
+    EXPECT_NEAR(every.find(key)->value, truth, 1e-5 * truth) << key;
+  }
 }
 
 TEST(Fit, NothingToFitOrNoDepthIsRefused) {
