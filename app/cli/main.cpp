@@ -498,7 +498,7 @@ struct FitArgs {
   std::vector<std::string> curves, plasmolysed;
   std::string fit = "E,p";
   std::string depthColumn, forceColumn, depthUnit, forceUnit;
-  int maxPoints = 25, maxIterations = 30, simulatedDepths = 10;
+  int maxPoints = 200, maxIterations = 30, simulatedDepths = 10;
   std::optional<double> contactHeight;
   std::string report, out;
 };
@@ -979,7 +979,8 @@ int main(int argc, char** argv) {
   fit->add_option("--contact-height", fa.contactHeight,
                   "JPK curves: the piezo height at contact, um (default: estimated where the "
                   "force leaves the baseline's noise)");
-  fit->add_option("--max-points", fa.maxPoints, "Measured points used per curve")
+  fit->add_option("--max-points", fa.maxPoints,
+                  "Measured points compared per curve (evenly spread over its depths)")
       ->capture_default_str();
   fit->add_option("--simulated-depths", fa.simulatedDepths,
                   "Depths simulated per curve, evenly spread over its points; the force between "

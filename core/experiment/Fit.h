@@ -33,7 +33,9 @@ struct FitSettings {
   bool fitE = true, fitP = true, fitH = false;
   bool fitOffset = false;  // a contact-point offset per curve (µm, added to the model's depth)
   int maxIterations = 30;
-  int maxPoints = 25;  // measured points used per curve, evenly spread over its depths
+  // Measured points compared per curve, evenly spread over its depths (their number costs
+  // nothing beyond the simulated depths below: it is the residual's length).
+  int maxPoints = 200;
   // Depths simulated per curve, evenly spread over its points' depths; the force at the points
   // between them is a cubic Hermite interpolant with the simulated slope (Fit.cpp). 0: every
   // point is simulated.
