@@ -8,7 +8,8 @@
 //    jointly from (130, 0.6). Counted: how often the reported 95 % intervals contain the truth
 //    (the issue asks for ≥ 90 of 100) and how often E and p come within 3 %. The data and the
 //    model share one fixed mesh (level 0 unless TP_BENCH_FIT_LEVEL says otherwise), so the
-//    replicates differ by the noise alone; TP_BENCH_REPLICATES sets their number.
+//    replicates differ by the noise alone; TP_BENCH_REPLICATES sets their number,
+//    TP_BENCH_FIT_POINTS the points of a curve (51: depth 0 and 50 steps).
 // Run: build/bin/bench_fit [--benchmark_filter=...]; see bench/README.md. Units: µm, µN, MPa.
 #include <benchmark/benchmark.h>
 
@@ -88,10 +89,11 @@ void BM_FitCoverage(benchmark::State& state) {
   const int level = envInt("TP_BENCH_FIT_LEVEL", 0);
   const int replicates = envInt("TP_BENCH_REPLICATES", 100);
   const double E0 = 100, p0 = 0.8, shift[2] = {0.02, 0.03};
-  const MeasuredCurve clean[2] = {simulated(settingsAt(E0, p0, 50, level)),
-                                  simulated(settingsAt(E0, 0.0, 50, level))};
+  const int steps = envInt("TP_BENCH_FIT_POINTS", 51) - 1;
+  const MeasuredCurve clean[2] = {simulated(settingsAt(E0, p0, steps, level)),
+                                  simulated(settingsAt(E0, 0.0, steps, level))};
   FitSettings fs;
-  fs.start = settingsAt(1.3 * E0, 0.75 * p0, 50, level);
+  fs.start = settingsAt(1.3 * E0, 0.75 * p0, steps, level);
   fs.fitOffset = true;
   int coveredE = 0, coveredP = 0, within3 = 0, converged = 0, failed = 0;
   double seconds = 0, evaluations = 0, iterations = 0;

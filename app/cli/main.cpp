@@ -984,7 +984,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   fit->add_option("--simulated-depths", fa.simulatedDepths,
                   "Depths simulated per curve, evenly spread over its points; the force between "
-                  "them is interpolated (cubic Hermite with the simulated slope). 0: every point")
+                  "them, and its derivatives, are the cubic spline through them. 0: every point")
       ->capture_default_str();
   fit->add_option("--max-iterations", fa.maxIterations, "Levenberg-Marquardt iterations at most")
       ->capture_default_str();

@@ -20,12 +20,62 @@ const FitValue* FitResult::find(const std::string& key) const {
   return nullptr;
 }
 
+// Not-a-knot ends: the third derivative continuous at the second and the last-but-one node
+// (de Boor, "A Practical Guide to Splines", 1978, ch. IV).
+Eigen::MatrixXd splineWeights(const std::vector<double>& t, const std::vector<double>& x) {
+  const int n = static_cast<int>(t.size()), m = static_cast<int>(x.size());
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(m, n);
+  if (n == 1) {
+    W.setOnes();
+    return W;
+  }
+  if (n <= 3) {  // Lagrange through all of them
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < n; ++j) {
+        double l = 1;
+        for (int k = 0; k < n; ++k)
+          if (k != j) l *= (x[i] - t[k]) / (t[j] - t[k]);
+        W(i, j) = l;
+      }
+    return W;
+  }
+  // The second derivatives M = K y: A M = R y, the interior rows the spline's continuity of the
+  // first derivative, the end rows not-a-knot.
+  std::vector<double> h(n - 1);
+  for (int j = 0; j + 1 < n; ++j) h[j] = t[j + 1] - t[j];
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n), R = Eigen::MatrixXd::Zero(n, n);
+  A(0, 0) = h[1];
+  A(0, 1) = -(h[0] + h[1]);
+  A(0, 2) = h[0];
+  for (int j = 1; j + 1 < n; ++j) {
+    A(j, j - 1) = h[j - 1];
+    A(j, j) = 2 * (h[j - 1] + h[j]);
+    A(j, j + 1) = h[j];
+    R(j, j - 1) = 6 / h[j - 1];
+    R(j, j) = -6 / h[j - 1] - 6 / h[j];
+    R(j, j + 1) = 6 / h[j];
+  }
+  A(n - 1, n - 3) = h[n - 2];
+  A(n - 1, n - 2) = -(h[n - 3] + h[n - 2]);
+  A(n - 1, n - 1) = h[n - 3];
+  const Eigen::MatrixXd K = A.partialPivLu().solve(R);
+  for (int i = 0; i < m; ++i) {
+    int j = 0;
+    while (j + 2 < n && t[j + 1] < x[i]) ++j;
+    const double a = (t[j + 1] - x[i]) / h[j], b = 1 - a, hh = h[j] * h[j] / 6;
+    W(i, j) += a;
+    W(i, j + 1) += b;
+    W.row(i) += ((a * a * a - a) * hh) * K.row(j) + ((b * b * b - b) * hh) * K.row(j + 1);
+  }
+  return W;
+}
+
 namespace {
 
 // The simulated force of one curve at its points and its exact derivatives (columns: E, p, h,
 // depth — ForceSensitivity's dE, dp, dh, dDepth), at one value of what the curve depends on.
 // The curve is simulated at a few depths (nodes) spanning its points, and the force at each
-// point is their cubic Hermite interpolant (see interpolate()).
+// point is their cubic spline (see interpolate()).
 struct CurveEvaluation {
   std::array<double, 4> key{};  // E, the curve's turgor, h, its contact-point offset
   bool complete = false;
@@ -54,67 +104,31 @@ std::vector<double> simulatedDepths(const std::vector<double>& depth, double off
   return t;
 }
 
-// The force and its derivatives at the points from those at the nodes: piecewise cubic Hermite
-// in depth (the basis as in de Boor, "A Practical Guide to Splines", 1978, ch. IV), the force
-// with its exact slope (∂F/∂depth, the sensitivity's last column), the derivatives in E, p, h
-// with the slope of the parabola through three neighbouring nodes (second order), and
-// ∂F/∂offset as the force interpolant's slope. Depths simulated as the curve's own points are
-// reproduced exactly. A point before contact has no force and moves with nothing.
+// The force and its derivatives at the points from those at the nodes: the cubic spline through
+// the nodes' values, the same linear map for every column, so that the derivatives at the points
+// are the exact derivatives of the forces there (the nodes' are exact: Sensitivity.h). With the
+// offset the nodes move as the points do (simulatedDepths), so ∂F/∂offset at a point is the
+// spline of the nodes' ∂F/∂depth. Depths simulated as the curve's own points are taken as they
+// are. A point before contact has no force and moves with nothing.
 void interpolate(const std::vector<double>& depth, double offset, CurveEvaluation& ev) {
   const int m = static_cast<int>(depth.size()), n = static_cast<int>(ev.nodes.size());
   ev.force.assign(m, 0.0);
   ev.sens.setZero(m, 4);
   if (n == 0) return;
-  const std::vector<double>& t = ev.nodes;
-  // Slopes of the columns E, p, h (0–2) and the force (3: exact).
-  Eigen::MatrixXd slope(n, 4);
-  for (int j = 0; j < n; ++j) slope(j, 3) = ev.nodeSens(j, 3);
-  for (int c = 0; c < 3; ++c) {
-    if (n == 1) {
-      slope(0, c) = 0;
-      continue;
+  std::vector<double> at;
+  std::vector<int> row;
+  for (int k = 0; k < m; ++k)
+    if (depth[k] + offset > 0) {
+      at.push_back(depth[k] + offset);
+      row.push_back(k);
     }
-    if (n == 2) {
-      slope(0, c) = slope(1, c) = (ev.nodeSens(1, c) - ev.nodeSens(0, c)) / (t[1] - t[0]);
-      continue;
-    }
-    for (int j = 0; j < n; ++j) {
-      const int a = j == 0 ? 0 : j == n - 1 ? n - 3 : j - 1;  // three nodes a, a+1, a+2
-      const double x0 = t[a], x1 = t[a + 1], x2 = t[a + 2], x = t[j];
-      // Derivative at x of the parabola through the three: Σ y_i ℓ_i'(x).
-      const double w0 = ((x - x1) + (x - x2)) / ((x0 - x1) * (x0 - x2));
-      const double w1 = ((x - x0) + (x - x2)) / ((x1 - x0) * (x1 - x2));
-      const double w2 = ((x - x0) + (x - x1)) / ((x2 - x0) * (x2 - x1));
-      slope(j, c) = w0 * ev.nodeSens(a, c) + w1 * ev.nodeSens(a + 1, c) + w2 * ev.nodeSens(a + 2, c);
-    }
-  }
-  for (int k = 0; k < m; ++k) {
-    const double d = depth[k] + offset;
-    if (d <= 0) continue;  // before contact: no force, nothing moves it but the offset's edge
-    int j = 0;
-    while (j + 1 < n && t[j + 1] < d) ++j;
-    if (n == 1 || d <= t[0]) {  // at the (single or shallowest) node
-      const int at = d <= t[0] ? 0 : j;
-      ev.force[k] = ev.nodeForce[at];
-      ev.sens.row(k) = ev.nodeSens.row(at);
-      continue;
-    }
-    if (j + 1 >= n) j = n - 2;
-    const double h = t[j + 1] - t[j], s = std::clamp((d - t[j]) / h, 0.0, 1.0);
-    // Hermite basis on [t_j, t_j+1] (s in [0, 1]) and its derivative in depth.
-    const double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s),
-                 h01 = s * s * (3 - 2 * s), h11 = s * s * (s - 1);
-    const double d00 = 6 * s * (s - 1) / h, d10 = (1 - s) * (1 - 3 * s), d01 = -d00,
-                 d11 = s * (3 * s - 2);
-    auto value = [&](double y0, double y1, double m0, double m1) {
-      return h00 * y0 + h10 * h * m0 + h01 * y1 + h11 * h * m1;
-    };
-    ev.force[k] = value(ev.nodeForce[j], ev.nodeForce[j + 1], slope(j, 3), slope(j + 1, 3));
-    for (int c = 0; c < 3; ++c)
-      ev.sens(k, c) =
-          value(ev.nodeSens(j, c), ev.nodeSens(j + 1, c), slope(j, c), slope(j + 1, c));
-    ev.sens(k, 3) = d00 * ev.nodeForce[j] + d10 * slope(j, 3) + d01 * ev.nodeForce[j + 1] +
-                    d11 * slope(j + 1, 3);
+  const bool own = at == ev.nodes;
+  const Eigen::MatrixXd W = own ? Eigen::MatrixXd() : splineWeights(ev.nodes, at);
+  const Eigen::Map<const Eigen::VectorXd> f(ev.nodeForce.data(), n);
+  for (size_t i = 0; i < at.size(); ++i) {
+    ev.force[row[i]] = own ? f[i] : W.row(i).dot(f);
+    ev.sens.row(row[i]) = own ? Eigen::RowVector4d(ev.nodeSens.row(i))
+                              : Eigen::RowVector4d(W.row(i) * ev.nodeSens);
   }
 }
 

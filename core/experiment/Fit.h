@@ -37,8 +37,8 @@ struct FitSettings {
   // nothing beyond the simulated depths below: it is the residual's length).
   int maxPoints = 200;
   // Depths simulated per curve, evenly spread over its points' depths; the force at the points
-  // between them is a cubic Hermite interpolant with the simulated slope (Fit.cpp). 0: every
-  // point is simulated.
+  // between them, and its derivatives, are the cubic spline through the simulated ones
+  // (Fit.cpp). 0: every point is simulated.
   int simulatedDepths = 10;
   // With E and p both fitted (and any held turgor 0), search over p/E with E in closed form
   // (variable projection, Fit.cpp); off: over E and p together, as a check of the former.
@@ -75,6 +75,12 @@ struct FitResult {
   std::vector<Curve> curves;
   const FitValue* find(const std::string& key) const;
 };
+
+/// The weights W (points × nodes) of the cubic spline through values at the increasing nodes t,
+/// at the points x: s(x_i) = Σ_j W_ij y_j (not-a-knot ends; the parabola through three nodes,
+/// the line through two). A fit interpolates each curve's simulated forces and their
+/// derivatives with it, so the derivatives at the points are exactly those of the forces there.
+Eigen::MatrixXd splineWeights(const std::vector<double>& t, const std::vector<double>& x);
 
 /// Fits `settings` to the curves on `tissue`. With the automatic mesh the search starts on its
 /// first level and each curve's mesh error is then estimated at the fitted values; a curve whose

@@ -170,6 +170,38 @@ TEST(Fit, ForcesBetweenTheSimulatedDepthsAreTheirInterpolantToATenThousandth) {
   }
 }
 
+TEST(Fit, TheSplineThroughTheSimulatedDepthsReproducesCubics) {
+  // Not-a-knot splines are exact for cubics (on uneven nodes too), parabolas through three
+  // nodes for quadratics, lines through two for lines; a fit's forces at the points are these
+  // weights times the nodes' forces, and so are their derivatives.
+  const std::vector<double> t = {0.01, 0.05, 0.12, 0.16, 0.25, 0.31, 0.38, 0.41, 0.47, 0.5};
+  std::vector<double> x;
+  for (int i = 0; i <= 36; ++i) x.push_back(0.01 + 0.49 * i / 36.0);
+  auto check = [&](const std::vector<double>& nodes, auto&& f) {
+    const Eigen::MatrixXd W = splineWeights(nodes, x);
+    ASSERT_EQ(W.rows(), static_cast<Eigen::Index>(x.size()));
+    ASSERT_EQ(W.cols(), static_cast<Eigen::Index>(nodes.size()));
+    Eigen::VectorXd y(nodes.size());
+    for (size_t j = 0; j < nodes.size(); ++j) y[j] = f(nodes[j]);
+    for (size_t i = 0; i < x.size(); ++i) {
+      EXPECT_NEAR(W.row(i).dot(y), f(x[i]), 1e-12) << nodes.size() << " nodes, x " << x[i];
+      EXPECT_NEAR(W.row(i).sum(), 1.0, 1e-12);  // constants too
+    }
+  };
+  check(t, [](double d) { return 3 - 2 * d + 40 * d * d - 75 * d * d * d; });
+  check({0.01, 0.2, 0.5}, [](double d) { return 1 + d - 7 * d * d; });
+  check({0.01, 0.5}, [](double d) { return 2 - 3 * d; });
+  // And not a quartic: the test can tell an exact reproduction from a near one.
+  const Eigen::MatrixXd W = splineWeights(t, x);
+  Eigen::VectorXd y(t.size());
+  for (size_t j = 0; j < t.size(); ++j) y[j] = std::pow(t[j], 4);
+  double worst = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    worst = std::max(worst, std::abs(W.row(i).dot(y) - std::pow(x[i], 4)));
+  EXPECT_GT(worst, 1e-8);
+  EXPECT_LT(worst, 1e-4);
+}
+
 TEST(Fit, NothingToFitOrNoDepthIsRefused) {
   FitSettings fs;
   fs.start = settings(100, 0.8);

@@ -112,15 +112,31 @@ class ControllerTest : public QObject {
     s.steps = 60;
     s.unload = false;
     c.setSchedule(s);
+    // The run's curve is the last scheduled (not live) one, if the run made one before the
+    // Cancel reached it; the depth's equilibrium may land after it as a drag's (live) curve.
+    auto runCurves = [&] {
+      int n = 0;
+      for (const NamedCurve& curve : c.curves()) n += !curve.live;
+      return n;
+    };
     for (int k = 0; k < 3; ++k) {
+      const int before = runCurves();
       if (k > 0) c.requestDepth(0.02 * k);
       c.runCurve();
       c.cancelRun();
       waitIdle(c);
-      QVERIFY2(c.curves().back().points.size() <= 1,
+      const NamedCurve* made = nullptr;
+      if (runCurves() > before)
+        for (auto it = c.curves().rbegin(); it != c.curves().rend() && !made; ++it)
+          if (!it->live) made = &*it;
+      if (made && made->points.size() > 1)
+        for (const NamedCurve& curve : c.curves())
+          qInfo("curve %s live %d points %d", curve.name.c_str(), int(curve.live),
+                int(curve.points.size()));
+      QVERIFY2(!made || made->points.size() <= 1,
                qPrintable(QString("attempt %1: %2 points after Cancel")
                               .arg(k)
-                              .arg(c.curves().back().points.size())));
+                              .arg(made ? made->points.size() : 0)));
     }
     // The next run is not cancelled.
     s.steps = 2;
