@@ -108,8 +108,9 @@ std::vector<double> simulatedDepths(const std::vector<double>& depth, double off
 // the nodes' values, the same linear map for every column, so that the derivatives at the points
 // are the exact derivatives of the forces there (the nodes' are exact: Sensitivity.h). With the
 // offset the nodes move as the points do (simulatedDepths), so ∂F/∂offset at a point is the
-// spline of the nodes' ∂F/∂depth. Depths simulated as the curve's own points are taken as they
-// are. A point before contact has no force and moves with nothing.
+// spline of the nodes' ∂F/∂depth. At the nodes themselves the weights are exactly 0 and 1, so
+// depths simulated as the curve's own points are taken as they are. A point before contact has
+// no force and moves with nothing.
 void interpolate(const std::vector<double>& depth, double offset, CurveEvaluation& ev) {
   const int m = static_cast<int>(depth.size()), n = static_cast<int>(ev.nodes.size());
   ev.force.assign(m, 0.0);
@@ -122,13 +123,11 @@ void interpolate(const std::vector<double>& depth, double offset, CurveEvaluatio
       at.push_back(depth[k] + offset);
       row.push_back(k);
     }
-  const bool own = at == ev.nodes;
-  const Eigen::MatrixXd W = own ? Eigen::MatrixXd() : splineWeights(ev.nodes, at);
+  const Eigen::MatrixXd W = splineWeights(ev.nodes, at);
   const Eigen::Map<const Eigen::VectorXd> f(ev.nodeForce.data(), n);
   for (size_t i = 0; i < at.size(); ++i) {
-    ev.force[row[i]] = own ? f[i] : W.row(i).dot(f);
-    ev.sens.row(row[i]) = own ? Eigen::RowVector4d(ev.nodeSens.row(i))
-                              : Eigen::RowVector4d(W.row(i) * ev.nodeSens);
+    ev.force[row[i]] = W.row(i).dot(f);
+    ev.sens.row(row[i]) = W.row(i) * ev.nodeSens;
   }
 }
 

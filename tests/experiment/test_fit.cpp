@@ -191,6 +191,12 @@ TEST(Fit, TheSplineThroughTheSimulatedDepthsReproducesCubics) {
   check(t, [](double d) { return 3 - 2 * d + 40 * d * d - 75 * d * d * d; });
   check({0.01, 0.2, 0.5}, [](double d) { return 1 + d - 7 * d * d; });
   check({0.01, 0.5}, [](double d) { return 2 - 3 * d; });
+  // At the nodes themselves the weights are exactly those of the node (a curve simulated at its
+  // own points keeps its values to the last bit).
+  for (const std::vector<double>& nodes : {t, std::vector<double>{0.01, 0.2, 0.5}}) {
+    const Eigen::MatrixXd Wn = splineWeights(nodes, nodes);
+    EXPECT_EQ(Wn, Eigen::MatrixXd::Identity(nodes.size(), nodes.size())) << nodes.size();
+  }
   // And not a quartic: the test can tell an exact reproduction from a near one.
   const Eigen::MatrixXd W = splineWeights(t, x);
   Eigen::VectorXd y(t.size());
