@@ -195,11 +195,12 @@ void elementPositions(const SparsePattern& pattern, std::span<const int> unknown
 
 SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
                      std::span<const int> elementVertices)
-    : arity_(arity), stride_(9 * arity * arity) {
+    : arity_(arity) {
   const size_t count = elementVertices.size() / arity;
   const int m = 3 * arity;
-  // Each element's unknowns, their positions by elementPositions (no search), then laid out as
-  // the full m × m table the assembly loops read.
+  if (m * m > 256) throw std::logic_error("SlotTable: an element of more than 5 vertices");
+  // Each element's unknowns, their positions by elementPositions (no search), then each
+  // element's stored entries sorted by position.
   std::vector<int> unknowns(count * m), begin(count + 1), slotBegin, upper;
   for (size_t e = 0; e < count; ++e) {
     begin[e] = static_cast<int>(e * m);
@@ -207,16 +208,23 @@ SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity
   }
   begin[count] = static_cast<int>(count * m);
   elementPositions(pattern, unknowns, begin, slotBegin, upper);
-  slots_.assign(count * stride_, -1);
+  begin_.assign(1, 0);
+  std::vector<std::pair<int, int>> entries;
   for (size_t e = 0; e < count; ++e) {
     const int* u = unknowns.data() + e * m;
     const int* up = upper.data() + slotBegin[e];
-    int* s = slots_.data() + e * stride_;
+    entries.clear();
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) {
         if (u[i] < 0 || u[j] < 0 || u[i] > u[j]) continue;  // fixed, or the lower-triangle twin
-        s[i * m + j] = up[upperIndex(std::min(i, j), std::max(i, j), m)];
+        entries.emplace_back(up[upperIndex(std::min(i, j), std::max(i, j), m)], i + m * j);
       }
+    std::sort(entries.begin(), entries.end());
+    for (const auto& [slot, local] : entries) {
+      slots_.push_back(slot);
+      local_.push_back(static_cast<std::uint8_t>(local));
+    }
+    begin_.push_back(static_cast<int>(slots_.size()));
   }
 }
 

@@ -61,20 +61,30 @@ void elementPositions(const SparsePattern& pattern, std::span<const int> unknown
                       std::span<const int> begin, std::vector<int>& slotBegin,
                       std::vector<int>& positions);
 
-/// For every element of one kind (arity N vertices), the value-array position of each local
-/// entry (i, j) of its 3N×3N Hessian, or −1 when the entry is skipped (a fixed component, or the
-/// lower-triangle twin of a stored entry). Every stored entry is hit exactly once per element.
+/// For every element of one kind (arity N vertices), the entries of its 3N×3N Hessian that go
+/// into the value array — every stored entry once (not a fixed component, nor the lower-triangle
+/// twin of a stored entry) — as (value-array position, local index i + 3N·j) in the order of
+/// their positions, so that an element's writes walk the values forward, a column's entries one
+/// after another, rather than jumping between its unknowns' columns entry by entry.
 class SlotTable {
  public:
+  struct Entries {
+    const int* slot;
+    const std::uint8_t* local;
+    int count;
+  };
   SlotTable() = default;
   SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
             std::span<const int> elementVertices);
-  const int* element(int e) const { return slots_.data() + static_cast<size_t>(e) * stride_; }
+  Entries element(int e) const {
+    return {slots_.data() + begin_[e], local_.data() + begin_[e], begin_[e + 1] - begin_[e]};
+  }
   int arity() const { return arity_; }
 
  private:
-  int arity_ = 0, stride_ = 0;
-  std::vector<int> slots_;
+  int arity_ = 0;
+  std::vector<int> slots_, begin_;
+  std::vector<std::uint8_t> local_;
 };
 
 }  // namespace tp

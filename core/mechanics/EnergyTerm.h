@@ -114,18 +114,16 @@ struct TermRegistration {
 /// Every term Model knows, in evaluation order (mechanics/terms/Registry.cpp).
 const std::vector<TermRegistration>& registeredTerms();
 
-/// Adds one element's gradient and Hessian (local order: its vertices' x, y, z) into the global
-/// arrays through its slots (−1: skipped).
+/// Adds one element's gradient and Hessian (local order: its vertices' x, y, z, the Hessian
+/// column-major) into the global arrays, the Hessian through its slot entries.
 template <int M>
-inline void scatterElement(const int* verts, const int* entrySlots, const Eigen::Matrix<double, M, 1>& g,
+inline void scatterElement(const int* verts, const SlotTable::Entries& entries,
+                           const Eigen::Matrix<double, M, 1>& g,
                            const Eigen::Matrix<double, M, M>* H, double* grad, double* values) {
   for (int i = 0; i < M; ++i) grad[3 * verts[i / 3] + i % 3] += g[i];
   if (!H || !values) return;
-  for (int i = 0; i < M; ++i)
-    for (int j = 0; j < M; ++j) {
-      const int s = entrySlots[i * M + j];
-      if (s >= 0) values[s] += (*H)(i, j);
-    }
+  const double* h = H->data();
+  for (int q = 0; q < entries.count; ++q) values[entries.slot[q]] += h[entries.local[q]];
 }
 
 }  // namespace tp

@@ -133,14 +133,16 @@ void Model::evaluate(const Points& x, Evaluation& out, const EvalOptions& o) con
   out.probeCoupling.setZero(3 * V, 3);
   out.contactTriangles = 0;
   out.contactProjected = false;
-  if (o.hessian) out.hessian.assign(pattern_.nnz(), 0.0);
+  if (o.hessian) out.hessian.resize(pattern_.nnz());  // zeroed below
   out.hasHessian = o.hessian;
   double* grad = out.gradient.data();
   double* vals = o.hessian ? out.hessian.data() : nullptr;
   const auto selected = [&](size_t k) { return o.onlyTerm < 0 || static_cast<int>(k) == o.onlyTerm; };
 
   // Threaded terms (the walls' elements) in one parallel region: each thread scatters into its
-  // own gradient and value arrays (thread 0 straight into the output), summed afterwards.
+  // own gradient and value arrays (thread 0 straight into the output), which the threads zero
+  // and at the end sum, each a range of the entries (memory-bound: at level 4 of the default
+  // meristem with Koiter bending, zeroing and summing the 2M values on one thread took 1.8 ms).
   // Static scheduling keeps the result the same from run to run for a given number of threads.
   const int threads = omp_get_max_threads();
   if (static_cast<int>(threadGrad_.size()) < threads) {
@@ -151,30 +153,38 @@ void Model::evaluate(const Points& x, Evaluation& out, const EvalOptions& o) con
   std::vector<double> shares(K, 0.0);
   bool anyThreaded = false;
   for (int k = 0; k < K; ++k) anyThreaded |= terms_[k]->threaded() && selected(k);
+  const int nnz = o.hessian ? pattern_.nnz() : 0;
+  if (!anyThreaded) std::fill(vals, vals + nnz, 0.0);
   if (anyThreaded) {
     std::vector<std::vector<double>> threadShares(threads, std::vector<double>(K, 0.0));
 #pragma omp parallel num_threads(threads)
     {
-      const int tid = omp_get_thread_num();
+      const int tid = omp_get_thread_num(), team = omp_get_num_threads();
       TermSink sink{grad, vals, nullptr};
       if (tid > 0) {
         threadGrad_[tid].assign(3 * V, 0.0);
         sink.gradient = threadGrad_[tid].data();
         if (o.hessian) {
-          threadVals_[tid].assign(pattern_.nnz(), 0.0);
+          threadVals_[tid].assign(nnz, 0.0);
           sink.hessian = threadVals_[tid].data();
         }
+      } else {
+        std::fill(vals, vals + nnz, 0.0);
       }
       for (int k = 0; k < K; ++k)
         if (terms_[k]->threaded() && selected(k))
           threadShares[tid][k] = terms_[k]->evaluate(x, o, sink);
-    }
-    for (int tid = 1; tid < threads; ++tid) {
-      if (threadGrad_[tid].empty()) continue;
-      for (int i = 0; i < 3 * V; ++i) grad[i] += threadGrad_[tid][i];
-      if (o.hessian)
-        for (int i = 0; i < pattern_.nnz(); ++i) vals[i] += threadVals_[tid][i];
-      threadGrad_[tid].clear();
+#pragma omp barrier
+      const auto sumRange = [&](double* into, int n, auto&& of) {
+        const int begin = static_cast<int>(static_cast<long>(n) * tid / team);
+        const int end = static_cast<int>(static_cast<long>(n) * (tid + 1) / team);
+        for (int t = 1; t < team; ++t) {
+          const double* from = of(t);
+          for (int i = begin; i < end; ++i) into[i] += from[i];
+        }
+      };
+      sumRange(grad, 3 * V, [&](int t) { return threadGrad_[t].data(); });
+      if (o.hessian) sumRange(vals, nnz, [&](int t) { return threadVals_[t].data(); });
     }
     for (int k = 0; k < K; ++k) {
       if (!terms_[k]->threaded() || !selected(k)) continue;

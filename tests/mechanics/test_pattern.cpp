@@ -110,13 +110,24 @@ TEST(Pattern, SlotTableHitsEveryStoredEntryOnceThroughFind) {
   const SlotTable slots(p, dofs, 3, tris);
   const int count = static_cast<int>(tris.size()) / 3;
   for (int e = 0; e < count; ++e) {
-    const int* s = slots.element(e);
+    // The element's entries as a 9×9 table of positions (local index i + 9j), −1 where absent;
+    // each local entry at most once, the positions increasing.
+    const SlotTable::Entries entries = slots.element(e);
+    std::vector<int> s(81, -1);
+    for (int q = 0; q < entries.count; ++q) {
+      ASSERT_LT(entries.local[q], 81);
+      ASSERT_EQ(s[entries.local[q]], -1) << "element " << e << ": local entry twice";
+      s[entries.local[q]] = entries.slot[q];
+      if (q > 0) {
+        ASSERT_LT(entries.slot[q - 1], entries.slot[q]) << "element " << e;
+      }
+    }
     for (int i = 0; i < 9; ++i)
       for (int j = 0; j < 9; ++j) {
         const int gi = dofs.index(3 * tris[3 * e + i / 3] + i % 3);
         const int gj = dofs.index(3 * tris[3 * e + j / 3] + j % 3);
         const int want = gi < 0 || gj < 0 || gi > gj ? -1 : p.find(gi, gj);
-        ASSERT_EQ(s[i * 9 + j], want) << "element " << e << " entry (" << i << ", " << j << ")";
+        ASSERT_EQ(s[i + 9 * j], want) << "element " << e << " entry (" << i << ", " << j << ")";
       }
   }
 }
