@@ -131,9 +131,8 @@ bool SimulationController::fitMeasuredCurves(bool E, bool p, bool h, bool offset
   if (!E && !p && !h && !offset) return refuse(tr("choose at least one value to fit"));
   FitSettings fs;
   fs.start = params_.experimentSettings();
-  // At the current site and along the probe's axis there, both held during the fit.
-  fs.start.indentation.site = latest_.site;
-  fs.start.indentation.axis = latest_.axis;
+  // The site: the current one as a material point (the worker sets it: it knows that point);
+  // the axis: the inward normal there in the starting values' turgid state (experiment/Fit.h).
   fs.fitE = E;
   fs.fitP = p;
   fs.fitH = h;
