@@ -140,6 +140,36 @@ class WindowTest : public QObject {
     QTest::qWait(50);  // let the last snapshot reach the view
   }
 
+  // Every measured curve removed (a fit fits them all).
+  void removeMeasuredCurves() {
+    for (int i = int(c_->curves().size()) - 1; i >= 0; --i)
+      if (c_->curves()[i].measured) c_->removeCurve(i);
+  }
+
+  // A curve simulated at the current site on mesh level `level` at E (MPa) and p (MPa), to
+  // `depth` µm in `steps` steps, added again as a measured curve named `name`; the parameters
+  // are left at those values (the fixed level).
+  NamedCurve addSimulatedAsMeasured(int level, double E, double p, double depth, int steps,
+                                    const std::string& name) {
+    SimulationParams params = c_->params();
+    params.autoMesh = false;
+    params.meshLevel = level;
+    params.youngModulus = E;
+    params.pressure = p;
+    c_->setParams(params);
+    waitIdle();
+    Schedule s;
+    s.maxDepth = depth;
+    s.steps = steps;
+    c_->setSchedule(s);
+    c_->runCurve();
+    waitIdle();
+    NamedCurve measured = c_->curves().back();
+    measured.name = name;
+    c_->addMeasuredCurve(measured);
+    return measured;
+  }
+
  private slots:
   void initTestCase() {
     // A small meristem: 60 cells in a dome of radius 15 µm.
@@ -923,29 +953,16 @@ class WindowTest : public QObject {
 
   void fitReadsBackTheModulusOfACurveAndReportsIt() {
     // Nothing measured: refused with the reason.
-    for (int i = int(c_->curves().size()) - 1; i >= 0; --i)
-      if (c_->curves()[i].measured) c_->removeCurve(i);
+    removeMeasuredCurves();
     QString why;
     QVERIFY(!c_->fitMeasuredCurves(true, false, false, false, &why));
     QVERIFY2(why.contains("no measured curve"), qPrintable(why));
     // A curve simulated at E = 100 MPa on the tissue as given (level 0, fast), taken as measured,
     // is read back from E = 150 MPa.
-    SimulationParams p = c_->params();
-    p.autoMesh = false;
-    p.meshLevel = 0;
-    p.youngModulus = 100;
-    c_->setParams(p);
-    waitIdle();
-    Schedule s;
-    s.maxDepth = 0.3;
-    s.steps = 3;
-    c_->setSchedule(s);
-    c_->runCurve();
-    waitIdle();
-    NamedCurve measured = c_->curves().back();
+    const NamedCurve measured =
+        addSimulatedAsMeasured(0, 100, c_->params().pressure, 0.3, 3, "measured · simulated at E 100");
     QCOMPARE(int(measured.points.size()), 4);
-    measured.name = "measured · simulated at E 100";
-    c_->addMeasuredCurve(measured);
+    SimulationParams p = c_->params();
     p.youngModulus = 150;
     c_->setParams(p);
     waitIdle();
@@ -1027,28 +1044,14 @@ class WindowTest : public QObject {
     // every measured curve); the tissue, parameters and curves are put back at the end.
     const QString tissueBefore = c_->tissuePath();
     const SimulationParams paramsBefore = c_->params();
-    for (int i = int(c_->curves().size()) - 1; i >= 0; --i)
-      if (c_->curves()[i].measured) c_->removeCurve(i);
+    removeMeasuredCurves();
     const int before = int(c_->curves().size());
     c_->loadTissue(QString());
     waitIdle();
-    SimulationParams p = c_->params();
-    p.autoMesh = false;
-    p.meshLevel = 2;
-    p.youngModulus = 100;
-    p.pressure = 0.8;
-    c_->setParams(p);
-    waitIdle();
-    Schedule s;
-    s.maxDepth = 0.5;
-    s.steps = 20;
-    c_->setSchedule(s);
-    c_->runCurve();
-    waitIdle();
-    NamedCurve measured = c_->curves().back();
+    const NamedCurve measured =
+        addSimulatedAsMeasured(2, 100, 0.8, 0.5, 20, "measured · simulated at E 100, p 0.8");
     QCOMPARE(int(measured.points.size()), 21);
-    measured.name = "measured · simulated at E 100, p 0.8";
-    c_->addMeasuredCurve(measured);
+    SimulationParams p = c_->params();
     p.youngModulus = 130;
     p.pressure = 0.6;
     c_->setParams(p);
