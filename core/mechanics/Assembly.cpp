@@ -198,7 +198,6 @@ SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity
     : arity_(arity) {
   const size_t count = elementVertices.size() / arity;
   const int m = 3 * arity;
-  if (m * m > 256) throw std::logic_error("SlotTable: an element of more than 5 vertices");
   // Each element's unknowns, their positions by elementPositions (no search), then each
   // element's stored entries sorted by position.
   std::vector<int> unknowns(count * m), begin(count + 1), slotBegin, upper;
@@ -208,7 +207,6 @@ SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity
   }
   begin[count] = static_cast<int>(count * m);
   elementPositions(pattern, unknowns, begin, slotBegin, upper);
-  begin_.assign(1, 0);
   std::vector<std::pair<int, int>> entries;
   for (size_t e = 0; e < count; ++e) {
     const int* u = unknowns.data() + e * m;
@@ -219,13 +217,24 @@ SlotTable::SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity
         if (u[i] < 0 || u[j] < 0 || u[i] > u[j]) continue;  // fixed, or the lower-triangle twin
         entries.emplace_back(up[upperIndex(std::min(i, j), std::max(i, j), m)], i + m * j);
       }
-    std::sort(entries.begin(), entries.end());
-    for (const auto& [slot, local] : entries) {
-      slots_.push_back(slot);
-      local_.push_back(static_cast<std::uint8_t>(local));
-    }
-    begin_.push_back(static_cast<int>(slots_.size()));
+    entries_.add(entries);
   }
+}
+
+void ElementEntries::add(std::vector<std::pair<int, int>>& entries) {
+  std::sort(entries.begin(), entries.end());
+  for (const auto& [slot, local] : entries) {
+    if (local < 0 || local > 255) throw std::logic_error("ElementEntries: local index past 255");
+    slots_.push_back(slot);
+    local_.push_back(static_cast<std::uint8_t>(local));
+  }
+  begin_.push_back(static_cast<int>(slots_.size()));
+}
+
+void ElementEntries::clear() {
+  slots_.clear();
+  local_.clear();
+  begin_.assign(1, 0);
 }
 
 }  // namespace tp

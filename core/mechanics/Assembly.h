@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,30 +62,43 @@ void elementPositions(const SparsePattern& pattern, std::span<const int> unknown
                       std::span<const int> begin, std::vector<int>& slotBegin,
                       std::vector<int>& positions);
 
-/// For every element of one kind (arity N vertices), the entries of its 3N×3N Hessian that go
-/// into the value array — every stored entry once (not a fixed component, nor the lower-triangle
-/// twin of a stored entry) — as (value-array position, local index i + 3N·j) in the order of
-/// their positions, so that an element's writes walk the values forward, a column's entries one
-/// after another, rather than jumping between its unknowns' columns entry by entry.
-class SlotTable {
+/// Elements' stored entries as (value-array position, local index), each element's in the
+/// order of their positions, so that an element's writes walk the values forward, a column's
+/// entries one after another, rather than jumping between its unknowns' columns entry by entry.
+class ElementEntries {
  public:
   struct Entries {
     const int* slot;
     const std::uint8_t* local;
     int count;
   };
-  SlotTable() = default;
-  SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
-            std::span<const int> elementVertices);
+  /// Appends the next element: its (position, local index < 256) pairs, in any order.
+  void add(std::vector<std::pair<int, int>>& entries);
   Entries element(int e) const {
     return {slots_.data() + begin_[e], local_.data() + begin_[e], begin_[e + 1] - begin_[e]};
   }
+  void clear();
+
+ private:
+  std::vector<int> slots_, begin_{0};
+  std::vector<std::uint8_t> local_;
+};
+
+/// For every element of one kind (arity N vertices), the entries of its 3N×3N Hessian that go
+/// into the value array — every stored entry once (not a fixed component, nor the lower-triangle
+/// twin of a stored entry) — with local index i + 3N·j (column-major), by position.
+class SlotTable {
+ public:
+  using Entries = ElementEntries::Entries;
+  SlotTable() = default;
+  SlotTable(const SparsePattern& pattern, const DofMap& dofs, int arity,
+            std::span<const int> elementVertices);
+  Entries element(int e) const { return entries_.element(e); }
   int arity() const { return arity_; }
 
  private:
   int arity_ = 0;
-  std::vector<int> slots_, begin_;
-  std::vector<std::uint8_t> local_;
+  ElementEntries entries_;
 };
 
 }  // namespace tp

@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <stdexcept>
 #include <vector>
 
@@ -67,23 +66,16 @@ class KoiterTerm final : public EnergyTerm {
     pairSlots_ = SlotTable(pattern, *layout.dofs, 4, pairVerts_);  // a pair lies inside its elements
     std::vector<int> slots, slotBegin;
     elementPositions(pattern, unknowns_, unknownBegin_, slotBegin, slots);
-    // Each element's entries in the order of their positions in the value array (prescribed
-    // ones dropped), as SlotTable keeps them: the element's writes walk memory forward.
+    // Each element's stored entries (prescribed ones dropped) by position, with their index in
+    // its upper triangle row by row (< 21·22/2).
     const int T = static_cast<int>(unknownBegin_.size()) - 1;
-    entryBegin_.assign(1, 0);
-    entrySlots_.clear();
-    entryLocal_.clear();
+    entries_.clear();
     std::vector<std::pair<int, int>> e;
     for (int t = 0; t < T; ++t) {
       e.clear();
       for (int s = slotBegin[t]; s < slotBegin[t + 1]; ++s)
         if (slots[s] >= 0) e.emplace_back(slots[s], s - slotBegin[t]);
-      std::sort(e.begin(), e.end());
-      for (const auto& [slot, local] : e) {
-        entrySlots_.push_back(slot);
-        entryLocal_.push_back(static_cast<std::uint8_t>(local));  // < 21·22/2
-      }
-      entryBegin_.push_back(static_cast<int>(entrySlots_.size()));
+      entries_.add(e);
     }
   }
 
@@ -165,7 +157,8 @@ class KoiterTerm final : public EnergyTerm {
       for (int i = 0; i < m; ++i)
         for (int j = i; j < m; ++j, ++s)
           upper[s] = GB(i, 0) * G(j, 0) + GB(i, 1) * G(j, 1) + GB(i, 2) * G(j, 2);
-      for (int q = entryBegin_[t]; q < entryBegin_[t + 1]; ++q) v[entrySlots_[q]] += upper[entryLocal_[q]];
+      const ElementEntries::Entries entries = entries_.element(t);
+      for (int q = 0; q < entries.count; ++q) v[entries.slot[q]] += upper[entries.local[q]];
     }
 #pragma omp barrier
     if (!o.hessian) return energy;
@@ -207,10 +200,7 @@ class KoiterTerm final : public EnergyTerm {
   // Each element's unknowns (three per vertex, then its edge unknowns, −1 where prescribed).
   std::vector<int> unknowns_, unknownBegin_;
   std::vector<double> workBefore_;  // the elements' work before element t (t = 0 … T)
-  // Element t's stored entries entrySlots_[entryBegin_[t] .. entryBegin_[t + 1]) by value-array
-  // position, and each one's index in its upper triangle (i ≤ j) row by row.
-  std::vector<int> entrySlots_, entryBegin_;
-  std::vector<std::uint8_t> entryLocal_;
+  ElementEntries entries_;  // each element's stored entries, by position
   SlotTable pairSlots_;
   // Per-evaluation scratch: each pair's angle and its gradient, each element's slope changes
   // from the angles, the edge unknowns, each element's B Δs.
