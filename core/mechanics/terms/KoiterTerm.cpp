@@ -116,13 +116,12 @@ class KoiterTerm final : public EnergyTerm {
     // thread 6.5 ms against the other's 10.9). Fixed for a given number of threads, so the sums
     // come out the same from run to run.
     const int tid = omp_get_thread_num(), threads = omp_get_num_threads();
-    const auto split = [&](int k) {
+    const auto split = [&](int k) {  // where thread k's range starts (k = threads: T)
       const double share = workBefore_.back() * k / threads;
-      return static_cast<int>(std::lower_bound(workBefore_.begin(), workBefore_.end(), share) -
-                              workBefore_.begin());
+      return std::min(T, static_cast<int>(std::lower_bound(workBefore_.begin(), workBefore_.end(),
+                                                           share) - workBefore_.begin()));
     };
-    const int tEnd = tid + 1 == threads ? T : std::min(split(tid + 1), T);
-    for (int t = tid == 0 ? 0 : std::min(split(tid), T); t < tEnd; ++t) {
+    for (int t = split(tid), tEnd = split(tid + 1); t < tEnd; ++t) {
       const int begin = unknownBegin_[t], m = unknownBegin_[t + 1] - begin;
       if (m == 0) {
         plateY_[t].setZero();
