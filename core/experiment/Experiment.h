@@ -191,13 +191,17 @@ class Experiment {
   MeshError estimateError(int level, double value, const Monitor& monitor = {},
                           const Seed* seed = nullptr);
   /// The error of a curve's end value at `level` as the mesh settings judge it: with the
-  /// automatic mesh past its first level (`level` > mesh.level), from the next coarser level's
+  /// automatic mesh past its first level, or at it when coarserResolvesContact(), from the next coarser level's
   /// end value (known when an automatic search ran it, else solved here, seeded by `seed`) when
   /// that estimate is within the tolerance (estimateMeshErrorFromCoarser); otherwise from the
   /// next finer level (estimateError). What run(), the application's curve runs and a fit's
   /// check at its fitted values report.
   MeshError curveError(int level, double value, const Monitor& monitor = {},
                        const Seed* seed = nullptr);
+  /// Whether level − 1 (≥ 1) is fine enough under the probe for the error of `level` to be
+  /// judged from it: its triangles there at most 0.8 of the contact radius √(R d) at the end
+  /// depth d (`value` under force control, else the deepest depth).
+  bool coarserResolvesContact(int level, double value) const;
 
   /// While on, the site an error estimate solves (the next finer level) is kept, and a run()
   /// that reaches that level starts from it instead of refining and solving it again (run()
