@@ -897,10 +897,11 @@ void addModelOptions(CLI::App* cmd, IndentArgs& a) {
       ->capture_default_str();
   cmd->add_option("--site", a.site,
                      "Indentation site x,y,z in um; the nearest outer-surface point is used "
-                     "(default: the top of the tissue)");
+                     "(default: the top of the tissue as given, the same material point "
+                     "whatever E, nu, h and p are)");
   cmd->add_option("--axis", a.axis,
-                     "Probe direction dx,dy,dz into the tissue (default: the inward surface "
-                     "normal at the site)");
+                     "Probe direction dx,dy,dz into the tissue (default: the inward normal of "
+                     "the tissue as given at the site)");
   cmd->add_option("--refine", a.refine,
                   "Mesh at the site: auto (refine level by level until the estimated "
                   "discretisation error is within --mesh-tolerance) or a fixed level (0 = the "

@@ -253,11 +253,17 @@ void Experiment::prepareBase(const Monitor& monitor) {
   if (s.restSite) {
     restSite_ = nearestSurfacePoint(*baseModel_, tissue_->rest, *s.restSite, &t);
     near(*s.restSite, restSite_);
-  } else {
-    site = s.site ? nearestSurfacePoint(*baseModel_, x, *s.site, &t)
-                  : topSurfacePoint(*baseModel_, x, &t);
-    if (s.site) near(*s.site, site);
+  } else if (s.site) {
+    site = nearestSurfacePoint(*baseModel_, x, *s.site, &t);
+    near(*s.site, site);
     restSite_ = restPositionOf(*baseModel_, x, site, t);
+  } else {
+    // The top of the tissue as given: one material point whatever E, ν, h and p are, so that a
+    // curve made at some values and fitted from others (tissueprobe-cli indent, then fit, both
+    // without --site) is indented at the same point of the tissue. (The top of each turgid state
+    // moved with the parameters: a level-2 curve made at E 100, p 0.8 and fitted from 130, 0.6
+    // came out E 107.4 ± 5.8, p 0.784.)
+    restSite_ = topSurfacePoint(*baseModel_, tissue_->rest, &t);
   }
   // Not on the clamped base: a probe whose contact patch (the probe radius around the site)
   // reaches clamped material (a clamped vertex, or an edge between two) pushes on walls that
@@ -283,11 +289,12 @@ void Experiment::prepareBase(const Monitor& monitor) {
           refuse("the clamped edge " + std::to_string(a) + "-" + std::to_string(b));
       }
   }
-  // One axis for every level: the inward normal of the tissue as given (or the one asked for),
-  // so that refining, which lets the walls near the site bulge, does not tilt the probe.
-  int tb = -1;
-  const Vec3 onBase = nearestSurfacePoint(*baseModel_, x, transferPoint(restSite_), &tb);
-  const Vec3 inward = inwardNormal(*baseModel_, x, onBase, tb, s.probeRadius);
+  // One axis for every level and every E, ν, h and p: the inward normal of the tissue as given
+  // (or the one asked for), so that refining, which lets the walls near the site bulge, does
+  // not tilt the probe, and a curve fitted from other values than it was made at is indented
+  // along the same line (the turgid state's normal at the starting values left a fit of a
+  // level-2 curve made at E 100, p 0.8 at E 98.95 ± 1.62 from 130, 0.6).
+  const Vec3 inward = inwardNormal(*baseModel_, tissue_->rest, restSite_, t, s.probeRadius);
   if (s.axis) {
     axis_ = s.axis->normalized();
     // Into the tissue: within 80° of the inward normal (a probe grazing the surface or pointing

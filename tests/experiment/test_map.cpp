@@ -3,6 +3,7 @@
 // task numbering, results that survive their files, a map whose tasks are the indentations they
 // say, and the same table from one process, two workers, two shards merged, and a resumed run.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <atomic>
 #include <cmath>
@@ -333,6 +334,11 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   EXPECT_EQ(r.failed, 0);
   ASSERT_EQ(r.written.size(), 3u);  // the table, its JSON and the surface
   const auto results = readResults(o.outDir, plan);
+  // The same computation as the map's worker, which runs on one thread: on two the sums come in
+  // another order, and a solve may take another path to an equilibrium within its tolerance
+  // (forces 5e-7 apart).
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
     const ExperimentResult x = e.run();
@@ -354,8 +360,15 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
     // a cell middle is a material point: the one indented is the site itself at rest
     EXPECT_LT((e.restSite() - plan.site(t).point).norm(), 1e-9);
   }
-  // The sites differ: so do their forces (the map maps something).
-  EXPECT_GT(std::abs(results[0].force - results[1].force), 1e-3 * results[0].force);
+  omp_set_num_threads(threads);
+  // The sites differ: so do their forces (the map maps something). (Two neighbouring cell
+  // middles can come within 0.1 % of each other; the four span 8 % here.)
+  double lo = results[0].force, hi = lo;
+  for (int t = 1; t < 4; ++t) {
+    lo = std::min(lo, results[t].force);
+    hi = std::max(hi, results[t].force);
+  }
+  EXPECT_GT(hi - lo, 1e-2 * hi);
   // The table: a header and a row per task, in task order, with the site's kind and label.
   std::istringstream rows(table(o.outDir));
   std::string line;
