@@ -313,20 +313,6 @@ void Experiment::prepareBase(const Monitor& monitor) {
   baseReady_ = true;
 }
 
-Vec3 Experiment::transferPoint(const Vec3& rest) const {
-  int t = -1;
-  const Vec3 onRest = nearestSurfacePoint(*baseModel_, tissue_->rest, rest, &t);
-  const auto& tri = tissue_->triangles[t];
-  const Points& X = tissue_->rest;
-  const Vec3 a = X.col(tri[0]), b = X.col(tri[1]), c = X.col(tri[2]);
-  const Vec3 n = (b - a).cross(c - a);
-  const double n2 = std::max(n.squaredNorm(), 1e-300);
-  const double wa = (c - b).cross(onRest - b).dot(n) / n2;
-  const double wb = (a - c).cross(onRest - c).dot(n) / n2;
-  return wa * baseTurgid_.col(tri[0]) + wb * baseTurgid_.col(tri[1]) +
-         (1 - wa - wb) * baseTurgid_.col(tri[2]);
-}
-
 std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& monitor,
                                                       const Seed* seed) {
   prepareBase(monitor);

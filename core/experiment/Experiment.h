@@ -191,10 +191,10 @@ class Experiment {
   MeshError estimateError(int level, double value, const Monitor& monitor = {},
                           const Seed* seed = nullptr);
   /// The error of a curve's end value at `level` as the mesh settings judge it: with the
-  /// automatic mesh past its first level, or at it when coarserResolvesContact(), from the next coarser level's
-  /// end value (known when an automatic search ran it, else solved here, seeded by `seed`) when
-  /// that estimate is within the tolerance (estimateMeshErrorFromCoarser); otherwise from the
-  /// next finer level (estimateError). What run(), the application's curve runs and a fit's
+  /// automatic mesh past its first level, or at it when coarserResolvesContact(), from the next
+  /// coarser level's end value (known when an automatic search ran it, else solved here, seeded
+  /// by `seed`) when that estimate is within the tolerance (estimateMeshErrorFromCoarser);
+  /// otherwise from the next finer level (estimateError). What run(), the application's curve runs and a fit's
   /// check at its fitted values report.
   MeshError curveError(int level, double value, const Monitor& monitor = {},
                        const Seed* seed = nullptr);
@@ -220,7 +220,6 @@ class Experiment {
  private:
   void checkCancel(const Monitor& m) const;
   void checkAgainstTissue(const ExperimentSettings& s) const;  // throws std::invalid_argument
-  Vec3 transferPoint(const Vec3& rest) const;  // a rest surface point in the base turgid state
   // The refined tissue's added vertices relaxed with its own held, into guess (kept if that fails).
   void relaxAddedVertices(const PreparedSite& site, Points& guess, const Monitor& monitor) const;
 

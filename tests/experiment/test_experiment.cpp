@@ -156,8 +156,9 @@ TEST(Experiment, LevelsRefineAroundOneMaterialPointAndTheSeedChangesNothing) {
   for (const auto& pt : coarse->indentation->run()) ASSERT_TRUE(pt.converged);
   seed.end = coarse->indentation->state();
   seed.travel = coarse->indentation->depth();
-  // Both end points solved to 1e-11 of the load scale, so that the forces agree to what the
-  // path to them leaves (at the default 1e-8 they differed by 1.3e-6 relative).
+  // Both end points solved to 1e-11 of the load scale, so that what is compared is the
+  // equilibrium rather than the solver's tolerance (at the default 1e-8 they differed by 1.3e-6
+  // relative).
   ExperimentSettings tight = shallow();
   tight.solver.tolerance = 1e-11;
   e.setSettings(tight);

@@ -337,8 +337,11 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   // The same computation as the map's worker, which runs on one thread: on two the sums come in
   // another order, and a solve may take another path to an equilibrium within its tolerance
   // (forces 5e-7 apart).
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
+  struct OneThread {
+    const int threads = omp_get_max_threads();
+    OneThread() { omp_set_num_threads(1); }
+    ~OneThread() { omp_set_num_threads(threads); }
+  } oneThread;  // for the rest of this test
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
     const ExperimentResult x = e.run();
@@ -360,7 +363,6 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
     // a cell middle is a material point: the one indented is the site itself at rest
     EXPECT_LT((e.restSite() - plan.site(t).point).norm(), 1e-9);
   }
-  omp_set_num_threads(threads);
   // The sites differ: so do their forces (the map maps something). (Two neighbouring cell
   // middles can come within 0.1 % of each other; the four span 8 % here.)
   double lo = results[0].force, hi = lo;
