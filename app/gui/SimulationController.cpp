@@ -61,6 +61,8 @@ double SimulationController::meanCellSize() const {
   return latest_.empty() ? 0.0 : latest_.geometry->meanCellSize;
 }
 
+bool SimulationController::idle() const { return !busy_ && !running_ && !worker_->hasWork(); }
+
 void SimulationController::loadTissue(const QString& path) {
   cancelRun();  // a running curve would hold the new tissue back
   // A new tissue starts without sites; its curves stay on the plot for comparison.

@@ -78,6 +78,9 @@ class SimulationController : public QObject {
   const Snapshot& latest() const { return latest_; }
   const QString& tissuePath() const { return tissuePath_; }
   bool busy() const { return busy_; }
+  /// Nothing asked of the worker is waiting or being done: not busy, not running, and no
+  /// request sent that it has not finished (busy() turns on only when the worker starts one).
+  bool idle() const;
   bool running() const { return running_; }
   bool prepared() const { return latest_.probeVisible; }
   double requestedDepth() const { return requestedDepth_; }

@@ -77,6 +77,12 @@ class SimulationWorker : public QObject {
   }
   /// Drops every waiting request and stops what runs; used before the thread quits.
   void stop();
+  /// A request waits or is being handled (from the moment it is asked for: the busy() signal
+  /// comes only when the worker starts on it).
+  bool hasWork() const {
+    std::lock_guard lock(mutex_);
+    return scheduled_ || !queue_.empty();
+  }
 
  signals:
   void snapshotReady(const tp::gui::Snapshot& snapshot);
@@ -145,7 +151,7 @@ class SimulationWorker : public QObject {
   bool runSchedule(const Schedule& schedule, bool rerun);
   Snapshot snapshot(Snapshot::Phase phase) const;
 
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::deque<Request> queue_;
   bool scheduled_ = false;
   int interruptibleBy_ = 0;        // what may stop the task in hand (bits of request kinds)

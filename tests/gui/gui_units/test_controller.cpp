@@ -24,7 +24,7 @@ class ControllerTest : public QObject {
   QString tissue_;
 
   void waitIdle(SimulationController& c) {
-    QTRY_VERIFY_WITH_TIMEOUT(!c.busy() && !c.running(), 60000);
+    QTRY_VERIFY_WITH_TIMEOUT(c.idle(), 60000);
   }
 
   // The box tissue loaded and prepared (E 50 MPa, p 0.2 MPa) at a fixed mesh level (one run per

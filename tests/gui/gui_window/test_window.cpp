@@ -136,7 +136,7 @@ class WindowTest : public QObject {
   TissueView* view_ = nullptr;
 
   void waitIdle(int ms = 120000) {
-    QTRY_VERIFY_WITH_TIMEOUT(!c_->busy() && !c_->running(), ms);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->idle(), ms);
     QTest::qWait(50);  // let the last snapshot reach the view
   }
 
