@@ -194,8 +194,8 @@ class Experiment {
   /// automatic mesh past its first level, or at it when coarserResolvesContact(), from the next
   /// coarser level's end value (known when an automatic search ran it, else solved here, seeded
   /// by `seed`) when that estimate is within the tolerance (estimateMeshErrorFromCoarser);
-  /// otherwise from the next finer level (estimateError). What run(), the application's curve runs and a fit's
-  /// check at its fitted values report.
+  /// otherwise from the next finer level (estimateError). What run(), the application's curve
+  /// runs and a fit's check at its fitted values report.
   MeshError curveError(int level, double value, const Monitor& monitor = {},
                        const Seed* seed = nullptr);
   /// Whether level − 1 (≥ 1) is fine enough under the probe for the error of `level` to be
