@@ -161,11 +161,11 @@ void Model::evaluate(const Points& x, Evaluation& out, const EvalOptions& o) con
     {
       const int tid = omp_get_thread_num(), team = omp_get_num_threads();
       TermSink sink{grad, vals, nullptr};
-      if (tid > 0) {
-        threadGrad_[tid].assign(3 * V, 0.0);
+      if (tid > 0) {  // kept zero between evaluations (the sum below clears what it reads)
+        if (threadGrad_[tid].size() != static_cast<size_t>(3 * V)) threadGrad_[tid].assign(3 * V, 0.0);
         sink.gradient = threadGrad_[tid].data();
         if (o.hessian) {
-          threadVals_[tid].assign(nnz, 0.0);
+          if (threadVals_[tid].size() != static_cast<size_t>(nnz)) threadVals_[tid].assign(nnz, 0.0);
           sink.hessian = threadVals_[tid].data();
         }
       } else {
@@ -179,8 +179,11 @@ void Model::evaluate(const Points& x, Evaluation& out, const EvalOptions& o) con
         const int begin = static_cast<int>(static_cast<long>(n) * tid / team);
         const int end = static_cast<int>(static_cast<long>(n) * (tid + 1) / team);
         for (int t = 1; t < team; ++t) {
-          const double* from = of(t);
-          for (int i = begin; i < end; ++i) into[i] += from[i];
+          double* from = of(t);
+          for (int i = begin; i < end; ++i) {
+            into[i] += from[i];
+            from[i] = 0.0;
+          }
         }
       };
       sumRange(grad, 3 * V, [&](int t) { return threadGrad_[t].data(); });
