@@ -11,8 +11,11 @@ namespace tp {
 // e = x1 − x0, a = x2 − x0, b = x3 − x0 (u, v: unnormalised normals of A and B).
 // Derivatives by the chain rule through q = (u, v, w): ∇θ = Jᵀ ∇_q θ and
 // ∇²θ = Jᵀ ∇²_q θ J + Σ_k (∂θ/∂q_k) ∇² q_k, where u and v are bilinear in the edge vectors.
-double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec12* grad,
-                     Mat12* hess) {
+namespace {
+
+// The angle (when `angle`), its gradient and Hessian (each when asked for).
+double dihedral(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec12* grad,
+                Mat12* hess, bool angle) {
   const Vec3 e = x1 - x0, a = x2 - x0, b = x3 - x0;
   const Vec3 u = e.cross(a), v = b.cross(e);
   const double wn = e.norm();
@@ -20,7 +23,7 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
   const Vec3 c = u.cross(v);
   const double x = u.dot(v);
   const double y = c.dot(wh);
-  const double theta = std::atan2(y, x);
+  const double theta = angle ? std::atan2(y, x) : 0.0;
   if (!grad && !hess) return theta;
 
   const double r2 = x * x + y * y;
@@ -86,6 +89,38 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
       if (cu1 == 0 && cu2 == 0 && cv1 == 0 && cv2 == 0) continue;
       hess->block<3, 3>(3 * i, 3 * j) += (cu2 - cu1) * Gu + (cv2 - cv1) * Gv;
     }
+  return theta;
+}
+
+}  // namespace
+
+double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec12* grad,
+                     Mat12* hess) {
+  return dihedral(x0, x1, x2, x3, grad, hess, true);
+}
+
+void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Mat12& hess) {
+  dihedral(x0, x1, x2, x3, nullptr, &hess, false);
+}
+
+// θ grows as n_B turns positively about ê relative to n_A, so ∂θ/∂n_A = −(ê × n_A)/|n_A|² and
+// ∂θ/∂n_B = (ê × n_B)/|n_B|²; through n_A = e × (x2 − x0) and n_B = (x3 − x0) × e these give the
+// wings' gradients below. Translating all four points or moving x0 and x1 with the wings' feet on
+// the edge leaves θ unchanged, which fixes the ends' shares: ∇_{x1}θ = −(α_A ∇_{x2}θ + α_B ∇_{x3}θ),
+// α the wings' projections on the edge as fractions of it from x0.
+double dihedralAngleGradient(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                             Vec12& grad) {
+  const Vec3 e = x1 - x0, a = x2 - x0, b = x3 - x0;
+  const Vec3 u = e.cross(a), v = b.cross(e);
+  const double ee = e.squaredNorm(), wn = std::sqrt(ee);
+  const double theta = std::atan2(u.cross(v).dot(e) / wn, u.dot(v));
+  const Vec3 g2 = (-wn / u.squaredNorm()) * u, g3 = (-wn / v.squaredNorm()) * v;
+  const double alphaA = a.dot(e) / ee, alphaB = b.dot(e) / ee;
+  const Vec3 g1 = -(alphaA * g2 + alphaB * g3);
+  grad.segment<3>(0) = -(g1 + g2 + g3);
+  grad.segment<3>(3) = g1;
+  grad.segment<3>(6) = g2;
+  grad.segment<3>(9) = g3;
   return theta;
 }
 

@@ -32,6 +32,16 @@ using Mat12 = Eigen::Matrix<double, 12, 12>;
 /// gradient and Hessian with respect to (x0, x1, x2, x3).
 double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Vec12* grad,
                      Mat12* hess);
+/// The same angle and its gradient in closed form (cheaper than the chain rule above, for
+/// callers that need no Hessian): ∇_{x2}θ = −|e| n_A/|n_A|², ∇_{x3}θ = −|e| n_B/|n_B|² (n the
+/// unnormalised normals, e = x1 − x0), and the edge's ends share the wings' gradients by where
+/// the wings project onto the edge (Bridson et al., "Simulation of clothing with folds and
+/// wrinkles", SCA 2003; Tamstorf and Grinspun, "Discrete bending forces and their Jacobians",
+/// 2013).
+double dihedralAngleGradient(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                             Vec12& grad);
+/// The angle's Hessian alone (as dihedralAngle's), without the angle or its gradient.
+void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Mat12& hess);
 
 struct HingeRest {
   double stiffness = 0;   // k (µN·µm)

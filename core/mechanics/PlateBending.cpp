@@ -248,24 +248,69 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
     pb.useBegin.push_back(static_cast<int>(pb.pairUses.size()));
   }
 
-  // A = Σ S_Tᵀ B_T S_T over the edge unknowns (SPD: every unknown sits in a live triangle).
-  std::vector<Eigen::Triplet<double>> trips;
+  // A = Σ S_Tᵀ B_T S_T over the edge unknowns (SPD: every unknown sits in a live triangle), in
+  // blocks: its connected components (union–find over its entries), the largest first, each
+  // dealt to the block with the fewest unknowns so far.
+  const int U = pb.edgeUnknowns;
+  std::vector<int> root(U);
+  for (int u = 0; u < U; ++u) root[u] = u;
+  const auto find = [&](int u) {
+    while (root[u] != u) u = root[u] = root[root[u]];
+    return u;
+  };
   for (const auto& el : pb.elements)
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        if (el.edgeUnknown[i] >= 0 && el.edgeUnknown[j] >= 0)
-          trips.emplace_back(el.edgeUnknown[i], el.edgeUnknown[j],
-                             el.edgeSign[i] * el.B(i, j) * el.edgeSign[j]);
-  Eigen::SparseMatrix<double> A(pb.edgeUnknowns, pb.edgeUnknowns);
-  A.setFromTriplets(trips.begin(), trips.end());
-  auto solver = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>();
-  if (pb.edgeUnknowns > 0) {
-    solver->compute(A);
-    if (solver->info() != Eigen::Success || !(solver->vectorD().minCoeff() > 0))
+        if (el.edgeUnknown[i] >= 0 && el.edgeUnknown[j] >= 0 && el.B(i, j) != 0.0)
+          root[find(el.edgeUnknown[i])] = find(el.edgeUnknown[j]);
+  std::vector<int> componentSize(U, 0);
+  for (int u = 0; u < U; ++u) ++componentSize[find(u)];
+  std::vector<int> components;
+  for (int u = 0; u < U; ++u)
+    if (root[u] == u) components.push_back(u);
+  std::stable_sort(components.begin(), components.end(),
+                   [&](int a, int b) { return componentSize[a] > componentSize[b]; });
+  constexpr int kBlocks = 8;  // enough to balance two to four threads
+  const int blockCount = std::min<int>(kBlocks, static_cast<int>(components.size()));
+  std::vector<int> blockOfComponent(U, -1), blockSize(blockCount, 0);
+  for (int c : components) {
+    const int b = static_cast<int>(std::min_element(blockSize.begin(), blockSize.end()) - blockSize.begin());
+    blockOfComponent[c] = b;
+    blockSize[b] += componentSize[c];
+  }
+  auto blocks = std::make_shared<std::vector<PlateBending::EdgeBlock>>(blockCount);
+  std::vector<int> blockOf(U), localOf(U);
+  for (int u = 0; u < U; ++u) {
+    const int b = blockOfComponent[find(u)];
+    blockOf[u] = b;
+    localOf[u] = static_cast<int>((*blocks)[b].unknowns.size());
+    (*blocks)[b].unknowns.push_back(u);
+  }
+  std::vector<std::vector<Eigen::Triplet<double>>> trips(blockCount);
+  for (size_t t = 0; t < pb.elements.size(); ++t) {
+    const auto& el = pb.elements[t];
+    for (int i = 0; i < 3; ++i) {
+      const int ui = el.edgeUnknown[i];
+      if (ui < 0) continue;
+      auto& block = (*blocks)[blockOf[ui]];
+      block.uses.push_back({static_cast<int>(t), i, localOf[ui]});
+      for (int j = 0; j < 3; ++j)
+        if (el.edgeUnknown[j] >= 0)
+          trips[blockOf[ui]].emplace_back(localOf[ui], localOf[el.edgeUnknown[j]],
+                                          el.edgeSign[i] * el.B(i, j) * el.edgeSign[j]);
+    }
+  }
+  for (int b = 0; b < blockCount; ++b) {
+    auto& block = (*blocks)[b];
+    const int n = static_cast<int>(block.unknowns.size());
+    Eigen::SparseMatrix<double> A(n, n);
+    A.setFromTriplets(trips[b].begin(), trips[b].end());
+    block.solver.compute(A);
+    if (block.solver.info() != Eigen::Success || !(block.solver.vectorD().minCoeff() > 0))
       throw std::runtime_error("plate bending: the mid-edge unknowns are not determined (a "
                                "degenerate triangle in a wall)");
   }
-  pb.edgeSolver = solver;
+  pb.edgeBlocks = blocks;
   return pb;
 }
 
@@ -281,18 +326,24 @@ Eigen::Vector3d plateAngleSlopes(const PlateBending& pb, int element,
   return ds;
 }
 
+void plateEdgeRotationsOfBlock(const PlateBending& pb, int b,
+                               const std::vector<Eigen::Vector3d>& angleSlopes, Eigen::VectorXd& phi) {
+  const auto& block = (*pb.edgeBlocks)[b];
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block.unknowns.size()));
+  for (const auto& use : block.uses) {
+    const auto& el = pb.elements[use.element];
+    rhs(use.local) -= el.edgeSign[use.edge] * el.B.row(use.edge).dot(angleSlopes[use.element]);
+  }
+  const Eigen::VectorXd local = block.solver.solve(rhs);
+  for (size_t i = 0; i < block.unknowns.size(); ++i) phi(block.unknowns[i]) = local(i);
+}
+
 Eigen::VectorXd plateEdgeRotations(const PlateBending& pb,
                                    const std::vector<Eigen::Vector3d>& angleSlopes) {
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(pb.edgeUnknowns);
-  if (pb.edgeUnknowns == 0) return rhs;
-  for (size_t t = 0; t < pb.elements.size(); ++t) {
-    const auto& el = pb.elements[t];
-    if (el.edgeUnknown[0] < 0 && el.edgeUnknown[1] < 0 && el.edgeUnknown[2] < 0) continue;
-    const Eigen::Vector3d y = el.B * angleSlopes[t];
-    for (int k = 0; k < 3; ++k)
-      if (el.edgeUnknown[k] >= 0) rhs(el.edgeUnknown[k]) -= el.edgeSign[k] * y(k);
-  }
-  return pb.edgeSolver->solve(rhs);
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(pb.edgeUnknowns);
+  for (int b = 0; b < static_cast<int>(pb.edgeBlocks->size()); ++b)
+    plateEdgeRotationsOfBlock(pb, b, angleSlopes, phi);
+  return phi;
 }
 
 Eigen::VectorXd plateEdgeRotations(const PlateBending& pb, const std::vector<double>& theta) {

@@ -90,8 +90,19 @@ struct PlateBending {
   std::vector<PairUse> pairUses;
   std::vector<int> useBegin;
   int edgeUnknowns = 0;                        // number of φ
-  /// A = Σ S_Tᵀ B_T S_T, factorised (shared by the copies of a model's rest data).
-  std::shared_ptr<const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> edgeSolver;
+  /// A = Σ S_Tᵀ B_T S_T couples only the edge unknowns of one wall (or of the walls a rigid
+  /// junction welds together): its connected components, dealt into blocks of about equal size,
+  /// each factorised on its own, so that threads can solve the blocks side by side.
+  struct EdgeBlock {
+    struct Use {
+      int element = -1, edge = -1, local = -1;  // element's edge k feeds the block's row `local`
+    };
+    std::vector<int> unknowns;  // the block's φ, in its local order
+    std::vector<Use> uses;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  };
+  /// The blocks of A, factorised (shared by the copies of a model's rest data).
+  std::shared_ptr<const std::vector<EdgeBlock>> edgeBlocks;
   int maxArity = 3;  // largest element vertex count (3 + wings)
 };
 
@@ -109,6 +120,11 @@ Eigen::VectorXd plateEdgeRotations(const PlateBending& pb, const std::vector<dou
 /// The same from every element's angle part of Δs (plateAngleSlopes).
 Eigen::VectorXd plateEdgeRotations(const PlateBending& pb,
                                    const std::vector<Eigen::Vector3d>& angleSlopes);
+
+/// The edge unknowns of block b (PlateBending::edgeBlocks) from every element's angle part of Δs,
+/// written into phi (sized edgeUnknowns); blocks are independent, so threads may share them out.
+void plateEdgeRotationsOfBlock(const PlateBending& pb, int b,
+                               const std::vector<Eigen::Vector3d>& angleSlopes, Eigen::VectorXd& phi);
 
 /// An element's slope changes Δs: its angle part plus its edge unknowns' turns.
 Eigen::Vector3d plateSlopeChanges(const PlateBending& pb, int element,

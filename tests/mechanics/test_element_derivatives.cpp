@@ -184,6 +184,29 @@ TEST(HingeDerivatives, DihedralAngleItself) {
   }
 }
 
+TEST(HingeDerivatives, ClosedFormGradientAndHessianAloneAgreeWithTheChainRule) {
+  // dihedralAngleGradient (closed form) and dihedralAngleHessian against dihedralAngle, whose
+  // derivatives the finite differences above check: flat, folded, nearly folded shut, and wings
+  // whose feet fall outside the edge.
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 40; ++trial) {
+    Vec3 X[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0), Vec3(0.5, -1, 0)};
+    const double fold = 3.0 * (trial % 7) / 6.0;  // 0 … 3 rad
+    X[3] = Vec3(trial % 5 == 4 ? 1.8 : 0.5, -std::cos(fold), std::sin(fold));
+    if (trial % 5 == 3) X[2].x() = -0.7;
+    const Eigen::Matrix3d R = randomRotation(rng);
+    const Vec3 shift = randomVec(rng, 3.0);
+    for (auto& p : X) p = R * (p + 0.05 * randomVec(rng)) + shift;
+    Vec12 g, gClosed;
+    Mat12 H, HAlone;
+    const double theta = dihedralAngle(X[0], X[1], X[2], X[3], &g, &H);
+    EXPECT_NEAR(dihedralAngleGradient(X[0], X[1], X[2], X[3], gClosed), theta, 1e-14) << trial;
+    EXPECT_LT((gClosed - g).norm(), 1e-12 * g.norm()) << trial;
+    dihedralAngleHessian(X[0], X[1], X[2], X[3], HAlone);
+    EXPECT_EQ((HAlone - H).norm(), 0.0) << trial;
+  }
+}
+
 TEST(HingeInvariants, RigidMotionHasNoEnergyOrForce) {
   std::mt19937 rng(6);
   const Vec3 X[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.4, 0.8, 0.1), Vec3(0.6, -0.9, 0.4)};

@@ -18,6 +18,7 @@ namespace {
 class KoiterTerm final : public EnergyTerm {
  public:
   static constexpr int kMaxArity = 6;  // a triangle and one wing per edge
+  static constexpr int kMaxUnknowns = 3 * kMaxArity + 3;  // and an edge unknown per edge
 
   explicit KoiterTerm(const TermContext& c)
       : cc_(c.complex),
@@ -26,6 +27,11 @@ class KoiterTerm final : public EnergyTerm {
     if (plate_.maxArity > kMaxArity)  // each edge has one pair at most (PlateBending.cpp)
       throw std::logic_error("Koiter bending: an element with more than one wing per edge");
     for (const auto& pr : plate_.pairs) pairVerts_.insert(pairVerts_.end(), pr.v.begin(), pr.v.end());
+    pairTheta_.resize(plate_.pairs.size());
+    pairGrad_.resize(plate_.pairs.size());
+    plateY_.resize(plate_.elements.size());
+    angleSlopes_.resize(plate_.elements.size());
+    phi_.setZero(plate_.edgeUnknowns);
   }
   std::string name() const override { return "Koiter bending"; }
   EnergyPart part() const override { return EnergyPart::Bending; }
@@ -80,34 +86,31 @@ class KoiterTerm final : public EnergyTerm {
   }
 
   // Five passes, every thread of the model's parallel region taking part: (1) each pair's
-  // dihedral angle and its gradient; (2) each element's slope changes from those angles; (3) the
-  // edge unknowns that minimise the energy for them (one solve with the factorised A,
-  // mechanics/PlateBending.h); (4) each element's energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k
+  // dihedral angle and its gradient (closed form); (2) each element's slope changes from those
+  // angles; (3) the edge unknowns that minimise the energy for them (A's blocks, factorised once,
+  // solved side by side, mechanics/PlateBending.h); (4) each element's energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k
   // (y = B Δs; the edge unknowns' part is zero at the minimum) and the matrix Gᵀ B G over its
   // positions and edge unknowns, G = ∂Δs/∂(x, φ); (5) the curvature part, each pair's
-  // Σ (coeff · y_k) ∇²θ gathered from the elements that use it.
+  // Σ (coeff · y_k) ∇²θ gathered from the elements that use it (the Hessian of θ alone: its
+  // gradient is pass 1's).
   double evaluate(const Points& x, const EvalOptions& o, TermSink& sink) const override {
     const int P = static_cast<int>(plate_.pairs.size());
     const int T = static_cast<int>(plate_.elements.size());
-#pragma omp single
-    {
-      pairTheta_.resize(P);
-      pairGrad_.resize(P);
-      plateY_.resize(T);
-      angleSlopes_.resize(T);
-    }
-#pragma omp for schedule(static)
+    // Passes 1 and 2 write each pair's and element's own scratch, so any schedule gives the same
+    // result: dynamic chunks take up whatever the terms before left unbalanced.
+#pragma omp for schedule(dynamic, 256)
     for (int p = 0; p < P; ++p) {
       const auto& pv = plate_.pairs[p].v;
-      pairTheta_[p] = dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]),
-                                    &pairGrad_[p], nullptr);
+      pairTheta_[p] = dihedralAngleGradient(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]),
+                                            x.col(pv[3]), pairGrad_[p]);
     }
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 512)
     for (int t = 0; t < T; ++t) angleSlopes_[t] = plateAngleSlopes(plate_, t, pairTheta_);
-#pragma omp single
-    phi_ = plateEdgeRotations(plate_, angleSlopes_);
+    const int blocks = static_cast<int>(plate_.edgeBlocks->size());
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < blocks; ++b) plateEdgeRotationsOfBlock(plate_, b, angleSlopes_, phi_);
     double energy = 0;
-    constexpr int kMax = 3 * kMaxArity + 3;
+    constexpr int kMax = kMaxUnknowns;
     using LocalGrads = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kMax, 3>;
     double* g = sink.gradient;
     double* v = sink.hessian;
@@ -149,19 +152,19 @@ class KoiterTerm final : public EnergyTerm {
       if (!o.hessian) continue;
       // G B Gᵀ, upper triangle row by row (no small-matrix product kernels), then added to the
       // values in the order of their positions.
-      LocalGrads GB(m, 3);
-      GB.noalias() = G.lazyProduct(el.B);
       double upper[kMax * (kMax + 1) / 2];
-      int s = 0;
-      for (int i = 0; i < m; ++i)
-        for (int j = i; j < m; ++j, ++s)
-          upper[s] = GB(i, 0) * G(j, 0) + GB(i, 1) * G(j, 1) + GB(i, 2) * G(j, 2);
+      if (m == kMax)  // the usual element inside a refined wall: sizes known to the compiler
+        upperOfGBGt<kMax>(G.data(), el.B, upper);
+      else
+        upperOfGBGt<Eigen::Dynamic>(G.data(), el.B, upper, m);
       const ElementEntries::Entries entries = entries_.element(t);
       for (int q = 0; q < entries.count; ++q) v[entries.slot[q]] += upper[entries.local[q]];
     }
 #pragma omp barrier
     if (!o.hessian) return energy;
-#pragma omp for schedule(static) nowait
+    // Chunks dealt in turn rather than two halves: the pairs of the refined walls, last, cost more
+    // (their writes spread further); fixed for a given number of threads like the split above.
+#pragma omp for schedule(static, 512) nowait
     for (int p = 0; p < P; ++p) {
       double mu = 0;
       for (int k = plate_.useBegin[p]; k < plate_.useBegin[p + 1]; ++k) {
@@ -170,14 +173,25 @@ class KoiterTerm final : public EnergyTerm {
       }
       if (mu == 0.0) continue;
       const auto& pv = plate_.pairs[p].v;
-      Vec12 gp;
       Mat12 Hp;
-      dihedralAngle(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]), &gp, &Hp);
+      dihedralAngleHessian(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]), Hp);
       const SlotTable::Entries entries = pairSlots_.element(p);
       const double* h = Hp.data();
       for (int q = 0; q < entries.count; ++q) v[entries.slot[q]] += mu * h[entries.local[q]];
     }
     return energy;
+  }
+
+  // The upper triangle of G B Gᵀ row by row, G the m × 3 column-major array at g.
+  template <int M>
+  static void upperOfGBGt(const double* g, const Eigen::Matrix3d& B, double* upper, int m = M) {
+    const Eigen::Map<const Eigen::Matrix<double, M, 3, 0, kMaxUnknowns, 3>> G(g, m, 3);
+    Eigen::Matrix<double, M, 3, 0, kMaxUnknowns, 3> GB(m, 3);
+    GB.noalias() = G.lazyProduct(B);
+    int s = 0;
+    for (int i = 0; i < m; ++i)
+      for (int j = i; j < m; ++j, ++s)
+        upper[s] = GB(i, 0) * G(j, 0) + GB(i, 1) * G(j, 1) + GB(i, 2) * G(j, 2);
   }
 
   double energy(const Points& x, double& magnitude) const override {
