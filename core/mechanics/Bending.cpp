@@ -99,14 +99,16 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
   return dihedral(x0, x1, x2, x3, grad, hess, true);
 }
 
-void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Mat12& hess) {
+void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                          Mat12& hess) {
   dihedral(x0, x1, x2, x3, nullptr, &hess, false);
 }
 
 // θ grows as n_B turns positively about ê relative to n_A, so ∂θ/∂n_A = −(ê × n_A)/|n_A|² and
 // ∂θ/∂n_B = (ê × n_B)/|n_B|²; through n_A = e × (x2 − x0) and n_B = (x3 − x0) × e these give the
 // wings' gradients below. Translating all four points or moving x0 and x1 with the wings' feet on
-// the edge leaves θ unchanged, which fixes the ends' shares: ∇_{x1}θ = −(α_A ∇_{x2}θ + α_B ∇_{x3}θ),
+// the edge leaves θ unchanged, which fixes the ends' shares:
+//   ∇_{x1}θ = −(α_A ∇_{x2}θ + α_B ∇_{x3}θ),   ∇_{x0}θ = −(∇_{x1}θ + ∇_{x2}θ + ∇_{x3}θ),
 // α the wings' projections on the edge as fractions of it from x0.
 double dihedralAngleGradient(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
                              Vec12& grad) {

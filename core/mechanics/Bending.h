@@ -41,7 +41,8 @@ double dihedralAngle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3&
 double dihedralAngleGradient(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
                              Vec12& grad);
 /// The angle's Hessian alone (as dihedralAngle's), without the angle or its gradient.
-void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, Mat12& hess);
+void dihedralAngleHessian(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                          Mat12& hess);
 
 struct HingeRest {
   double stiffness = 0;   // k (µN·µm)

@@ -274,7 +274,8 @@ PlateBending buildPlateBending(const CellComplex& cc, const Topology& topo, doub
   const int blockCount = std::min<int>(kBlocks, static_cast<int>(components.size()));
   std::vector<int> blockOfComponent(U, -1), blockSize(blockCount, 0);
   for (int c : components) {
-    const int b = static_cast<int>(std::min_element(blockSize.begin(), blockSize.end()) - blockSize.begin());
+    const int b =
+        static_cast<int>(std::min_element(blockSize.begin(), blockSize.end()) - blockSize.begin());
     blockOfComponent[c] = b;
     blockSize[b] += componentSize[c];
   }
@@ -327,7 +328,8 @@ Eigen::Vector3d plateAngleSlopes(const PlateBending& pb, int element,
 }
 
 void plateEdgeRotationsOfBlock(const PlateBending& pb, int b,
-                               const std::vector<Eigen::Vector3d>& angleSlopes, Eigen::VectorXd& phi) {
+                               const std::vector<Eigen::Vector3d>& angleSlopes,
+                               Eigen::VectorXd& phi) {
   const auto& block = (*pb.edgeBlocks)[b];
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block.unknowns.size()));
   for (const auto& use : block.uses) {

@@ -124,7 +124,8 @@ Eigen::VectorXd plateEdgeRotations(const PlateBending& pb,
 /// The edge unknowns of block b (PlateBending::edgeBlocks) from every element's angle part of Δs,
 /// written into phi (sized edgeUnknowns); blocks are independent, so threads may share them out.
 void plateEdgeRotationsOfBlock(const PlateBending& pb, int b,
-                               const std::vector<Eigen::Vector3d>& angleSlopes, Eigen::VectorXd& phi);
+                               const std::vector<Eigen::Vector3d>& angleSlopes,
+                               Eigen::VectorXd& phi);
 
 /// An element's slope changes Δs: its angle part plus its edge unknowns' turns.
 Eigen::Vector3d plateSlopeChanges(const PlateBending& pb, int element,

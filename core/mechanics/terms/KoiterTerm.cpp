@@ -88,10 +88,10 @@ class KoiterTerm final : public EnergyTerm {
   // Five passes, every thread of the model's parallel region taking part: (1) each pair's
   // dihedral angle and its gradient (closed form); (2) each element's slope changes from those
   // angles; (3) the edge unknowns that minimise the energy for them (A's blocks, factorised once,
-  // solved side by side, mechanics/PlateBending.h); (4) each element's energy ½ ΔsᵀBΔs, its gradient Σ_k y_k ∇s_k
-  // (y = B Δs; the edge unknowns' part is zero at the minimum) and the matrix Gᵀ B G over its
-  // positions and edge unknowns, G = ∂Δs/∂(x, φ); (5) the curvature part, each pair's
-  // Σ (coeff · y_k) ∇²θ gathered from the elements that use it (the Hessian of θ alone: its
+  // solved side by side, mechanics/PlateBending.h); (4) each element's energy ½ ΔsᵀBΔs, its
+  // gradient Σ_k y_k ∇s_k (y = B Δs; the edge unknowns' part is zero at the minimum) and the matrix
+  // Gᵀ B G over its positions and edge unknowns, G = ∂Δs/∂(x, φ); (5) the curvature part, each
+  // pair's Σ (coeff · y_k) ∇²θ gathered from the elements that use it (the Hessian of θ alone: its
   // gradient is pass 1's).
   double evaluate(const Points& x, const EvalOptions& o, TermSink& sink) const override {
     const int P = static_cast<int>(plate_.pairs.size());
@@ -101,8 +101,8 @@ class KoiterTerm final : public EnergyTerm {
 #pragma omp for schedule(dynamic, 256)
     for (int p = 0; p < P; ++p) {
       const auto& pv = plate_.pairs[p].v;
-      pairTheta_[p] = dihedralAngleGradient(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]),
-                                            x.col(pv[3]), pairGrad_[p]);
+      pairTheta_[p] = dihedralAngleGradient(x.col(pv[0]), x.col(pv[1]), x.col(pv[2]), x.col(pv[3]),
+                                            pairGrad_[p]);
     }
 #pragma omp for schedule(dynamic, 512)
     for (int t = 0; t < T; ++t) angleSlopes_[t] = plateAngleSlopes(plate_, t, pairTheta_);
@@ -162,8 +162,9 @@ class KoiterTerm final : public EnergyTerm {
     }
 #pragma omp barrier
     if (!o.hessian) return energy;
-    // Chunks dealt in turn rather than two halves: the pairs of the refined walls, last, cost more
-    // (their writes spread further); fixed for a given number of threads like the split above.
+      // Chunks dealt in turn rather than two halves: the pairs of the refined walls, last, cost
+      // more (their writes spread further); fixed for a given number of threads like the split
+      // above.
 #pragma omp for schedule(static, 512) nowait
     for (int p = 0; p < P; ++p) {
       double mu = 0;
