@@ -46,6 +46,7 @@
 #include "io/TissueFiles.h"
 #include "io/Vtu.h"
 #include "mesh/Quality.h"
+#include "solver/Memory.h"
 #include "tissue/Meristem.h"
 #include "tissue/RealTissue.h"
 #include "tissue/Shapes.h"
@@ -918,6 +919,7 @@ void addModelOptions(CLI::App* cmd, IndentArgs& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tp::keepFreedMemory();
   CLI::App app{"TissueProbe command line: AFM-style spherical indentation of a plant tissue.\n"
                "Units: lengths in um, moduli and pressures in MPa, forces in uN."};
   app.require_subcommand(1);

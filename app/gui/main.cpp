@@ -13,12 +13,14 @@
 #include "FileActions.h"
 #include "MainWindow.h"
 #include "Resources.h"
+#include "solver/Memory.h"
 
 int main(int argc, char** argv) {
   // The arguments as given: QApplication removes the ones it knows, and X11 session management
   // takes "-session", which would swallow our --session.
   QStringList arguments;
   for (int i = 0; i < argc; ++i) arguments << QString::fromLocal8Bit(argv[i]);
+  tp::keepFreedMemory();
   tp::gui::setDefaultSurfaceFormat();  // before the application object exists
   QApplication app(argc, argv);
   std::setlocale(LC_NUMERIC, "C");  // numbers in files keep a decimal point in every locale

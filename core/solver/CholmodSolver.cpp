@@ -1,4 +1,5 @@
 #include "solver/CholmodSolver.h"
+#include "solver/Memory.h"
 
 #include <Eigen/Dense>
 
@@ -81,7 +82,10 @@ struct CholmodSolver::Impl {
   }
 };
 
-CholmodSolver::CholmodSolver() : impl_(std::make_unique<Impl>()) {}
+CholmodSolver::CholmodSolver() {
+  keepFreedMemory();
+  impl_ = std::make_unique<Impl>();
+}
 CholmodSolver::~CholmodSolver() = default;
 
 bool CholmodSolver::analyzed() const { return impl_->L != nullptr; }
