@@ -337,9 +337,10 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (it == 0) r.nearStart = rep.residual <= 1e4 * goal;
     // The contact relaxation works with a tangent held from an earlier evaluation. The first
     // contact solve on a new mesh has none (its rest state was solved without the probe), so
-    // its first tangent is assembled here, at this iterate (the iteration needs one anyway):
-    // without it level 4's end point for an error estimate (165 pressed triangles) ran CG on
-    // the rest state's factor to its 25 iterations, then factorised (bench/README.md).
+    // this iterate's tangent is assembled first (serving the Newton step if the relaxation is
+    // dropped; one more assembly if it is kept): without it level 4's end point for an error
+    // estimate (165 pressed triangles) ran CG on the rest state's factor to its 25 iterations
+    // and factorised twice, with it once (bench/README.md).
     if (it == 0 && options_.relaxContact && ev_.contactTriangles > 0 && model_.probe() &&
         !relax_.heldTangent(model_))
       evaluateAt(r, r.x, r.travel, true, ev_, options_.projectContactHessian && !r.nearStart);
