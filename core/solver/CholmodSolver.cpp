@@ -134,9 +134,17 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
   // no more threads than there are idle cores. Measured on the 2-core VM, `tissueprobe-cli indent
   // --depth 0.5 --steps 5 --refine 3 --probe-radius 3`: 41.3 -> 36.6 s; with OMP_NUM_THREADS=1
   // and OPENBLAS_NUM_THREADS=1 (CI's slow tests) 54.6 -> 41.2 s, a quarter of the time.
-  const int dynamic = omp_get_dynamic();
+  // Those loops only clear and scatter values (memory-bound; the flops are OpenBLAS's, threaded
+  // on their own), and libgomp reads the load average and the affinity mask for every dynamic
+  // team: with this thread's team size at one as well, every region of the factorisation is
+  // one thread run directly (solver/OpenMpRegions.h). BM_Factorization/3 and /4 (two threads,
+  // medians of 5, builds alternated): 166, 155 ms and 495, 473 ms with dynamic teams; 148,
+  // 115 ms and 448, 367 ms with one thread.
+  const int dynamic = omp_get_dynamic(), threads = omp_get_max_threads();
   omp_set_dynamic(1);
+  omp_set_num_threads(1);
   const int ok = cholmod_factorize_p(m.A, beta, nullptr, 0, m.L, &m.common);
+  omp_set_num_threads(threads);
   omp_set_dynamic(dynamic);
   if (m.common.status == CHOLMOD_NOT_POSDEF || (ok && m.L->minor < m.L->n)) {
     message_ = "tangent matrix not positive definite (column " + std::to_string(m.L->minor) + ")";
