@@ -507,9 +507,18 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     // well: CG ran out of iterations and a factorisation followed, at every site pick. There
     // pcgTolerance is used, as Eisenstat and Walker's forcing term would ("Choosing the forcing
     // terms in an inexact Newton method", SIAM J. Sci. Comput. 17, 1996: η_k = 0.9 (‖g_k‖ /
-    // ‖g_k−1‖)², above 0.009 for such a fall, capped here).
+    // ‖g_k−1‖)², above 0.009 for such a fall, capped here). The first iteration has no fall to
+    // judge by: a start far from the solution (not nearStart, more than 1e4 × the target) is
+    // not in the quadratic regime either, and takes pcgTolerance too, as Eisenstat and Walker's
+    // η_0 (0.5 there). The tight rule asked the first iteration of level 4's end point for an
+    // error estimate (started from level 3's dimple at 1e-2 of the load scale) for 1.5e-7: CG
+    // reached 1.7e-5 in its 25 iterations, a good first step, and was thrown away for a
+    // factorisation; with pcgTolerance, 15 iterations, and the solve 18 CG and one
+    // factorisation instead of 34 and one (`tissueprobe-cli indent --site
+    // 19.5249,-2.0653,42.894 --steps 5 --verbose`). A near start keeps the tight rule: a drag
+    // step ends in one iteration.
     const double target = std::max(options_.tolerance * r.rep.loadScale, r.noiseFloor);
-    const bool slow = r.lastResidual > 0 && r.rep.residual > 0.1 * r.lastResidual;
+    const bool slow = r.lastResidual > 0 ? r.rep.residual > 0.1 * r.lastResidual : !r.nearStart;
     const double eta = slow ? options_.pcgTolerance
                             : std::clamp(0.1 * target / r.rep.residual, 1e-12, options_.pcgTolerance);
     int its = 0;

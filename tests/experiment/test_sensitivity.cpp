@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "experiment/Sensitivity.h"
+#include "solver/Newton.h"
 #include "tissue/Refine.h"
 #include "tissue/Shapes.h"
 
@@ -68,11 +69,25 @@ double forceAt(const Params& q, double depth, ForceSensitivity* sens = nullptr) 
   }
   if (sens) {
     EXPECT_TRUE(turgid.ok);
+    // On the refined tissue the adjoint is solved by conjugate gradients on the factor held
+    // from the last solve, when that factor is of a nearby state (EquilibriumSolver::
+    // tangentSolve), else by a factorisation. Which one the depth steps leave depends on their
+    // path (since the first Newton iteration of a start far from the solution solves to
+    // pcgTolerance, the depth steps here end on CG, their last factor from an earlier state, and
+    // the adjoint factorises); the factor is refreshed at the state reached, as after a depth
+    // step that ends with a factorisation, so that the CG path is the one checked.
+    if (q.refined) {
+      auto* solver = dynamic_cast<StaticSolver*>(&ind.solver());
+      if (solver)
+        solver->timeFactorization();
+      else
+        ADD_FAILURE() << "the indentation's solver is not Newton's";
+    }
     const SolverTotals before = ind.solver().totals();
     *sens = forceSensitivity(ind, &turgid);
-    // One linear solve (the adjoint). On the refined tissue by conjugate gradients on the factor
-    // the depth steps left, no factorisation of its own; on the coarse box a factorisation costs
-    // fewer operations than two CG iterations (EquilibriumSolver::tangentSolve), so it is one.
+    // One linear solve (the adjoint): on the refined tissue by conjugate gradients, no
+    // factorisation of its own; on the coarse box a factorisation costs fewer operations than
+    // two CG iterations (EquilibriumSolver::tangentSolve), so it is one.
     if (q.refined) {
       EXPECT_EQ(ind.solver().totals().factorizations, before.factorizations);
       EXPECT_GT(ind.solver().totals().pcgIterations, before.pcgIterations);
