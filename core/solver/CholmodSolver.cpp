@@ -106,7 +106,17 @@ void CholmodSolver::analyze(const SparsePattern& pattern) {
     std::memcpy(m.A->i, pattern.rowIdx.data(), sizeof(int) * pattern.nnz());
     std::memset(m.A->x, 0, sizeof(double) * pattern.nnz());
   }
-  m.L = cholmod_analyze(m.A, &m.common);
+  {
+    // One analysis at a time in the process: CHOLMOD's ordering tries METIS, and Debian's METIS
+    // draws its random numbers from libc's rand(), one generator for the process, seeded with
+    // srand() at every call. Two analyses at once (a stiffness map's workers) drew from each
+    // other's sequence, so the same site got another ordering, hence other last bits, from run
+    // to run and with the number of workers. The wait is short: analyses are about a tenth of
+    // a map site (bench/README.md).
+    static std::mutex orderingMutex;
+    std::lock_guard lock(orderingMutex);
+    m.L = cholmod_analyze(m.A, &m.common);
+  }
   if (!m.L || m.common.status < CHOLMOD_OK)
     throw std::runtime_error("CHOLMOD: symbolic analysis failed (status " +
                              std::to_string(m.common.status) + ")");

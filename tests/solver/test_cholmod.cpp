@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "mechanics/Model.h"
 #include "solver/CholmodSolver.h"
@@ -89,4 +91,57 @@ TEST(Cholmod, SinglePrecisionSolveOnTwoThreadsEqualsTheSerialOne) {
   EXPECT_LT((split - exact).norm(), 1e-4 * exact.norm());
   // The float factor is a preconditioner: A applied to its answer gives b back to ~1e-4.
   EXPECT_LT((k.times(split) - b).norm(), 1e-3 * b.norm());
+}
+
+namespace {
+
+// The upper triangle of a 7-point grid of n × n × n unknowns. At n = 32 AMD's ordering needs
+// enough flops that CHOLMOD tries METIS too (at n = 22 it did not, and the test below passed
+// without the fix it checks; at 32 every analysis on the two threads failed without it).
+SparsePattern gridPattern(int n) {
+  SparsePattern p;
+  p.n = n * n * n;
+  p.colPtr.push_back(0);
+  const auto id = [n](int i, int j, int k) { return (k * n + j) * n + i; };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {  // rows of column id(i, j, k) above the diagonal, ascending
+        if (k > 0) p.rowIdx.push_back(id(i, j, k - 1));
+        if (j > 0) p.rowIdx.push_back(id(i, j - 1, k));
+        if (i > 0) p.rowIdx.push_back(id(i - 1, j, k));
+        p.rowIdx.push_back(id(i, j, k));
+        p.colPtr.push_back(static_cast<int>(p.rowIdx.size()));
+      }
+  return p;
+}
+
+}  // namespace
+
+TEST(Cholmod, AnalysesOnSeveralThreadsGiveTheSerialOrdering) {
+  // METIS draws random numbers from libc's one generator; analyses at once on two threads (a
+  // map's workers) gave other orderings from run to run until they were serialised. The
+  // ordering's fingerprint: the factor's nonzeros and flops.
+  const SparsePattern pattern = gridPattern(32);
+  CholmodSolver serial;
+  serial.analyze(pattern);
+  const double nonzeros = serial.factorNonzeros(), flops = serial.factorFlops();
+  ASSERT_GT(nonzeros, 0);
+  constexpr int kThreads = 2, kEach = 3;
+  std::vector<std::vector<double>> seen(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      CholmodSolver own;
+      for (int k = 0; k < kEach; ++k) {
+        own.analyze(pattern);
+        seen[t].push_back(own.factorNonzeros());
+        seen[t].push_back(own.factorFlops());
+      }
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < kThreads; ++t)
+    for (int k = 0; k < kEach; ++k) {
+      EXPECT_EQ(seen[t][2 * k], nonzeros) << "thread " << t << ", analysis " << k;
+      EXPECT_EQ(seen[t][2 * k + 1], flops) << "thread " << t << ", analysis " << k;
+    }
 }
