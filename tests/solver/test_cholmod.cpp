@@ -3,12 +3,15 @@
 // over two threads along the elimination tree — against the double-precision one.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <random>
 #include <thread>
 #include <vector>
 
 #include "mechanics/Model.h"
 #include "solver/CholmodSolver.h"
+#include "solver/OpenMpRegions.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
@@ -144,4 +147,26 @@ TEST(Cholmod, AnalysesOnSeveralThreadsGiveTheSerialOrdering) {
       EXPECT_EQ(seen[t][2 * k], nonzeros) << "thread " << t << ", analysis " << k;
       EXPECT_EQ(seen[t][2 * k + 1], flops) << "thread " << t << ", analysis " << k;
     }
+}
+
+TEST(Cholmod, FactorisationsRegionsComeThroughThisProcesssEntry) {
+  // CHOLMOD's supernodal factorisation opens OpenMP regions of one thread for every supernode;
+  // they run directly (solver/OpenMpRegions.h) only if the dynamic linker bound CHOLMOD's calls
+  // to this process's GOMP_parallel rather than libgomp's: then they are counted here.
+  const Tangent k;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  CholmodSolver chol;
+  chol.analyze(k.pattern());
+  const auto before = serialRegionsRunDirectly();
+  const auto status = chol.factorize(k.ev.hessian, 0.0);
+  const auto regions = serialRegionsRunDirectly() - before;
+  omp_set_num_threads(threads);
+  ASSERT_EQ(status, CholmodSolver::Status::Ok);
+  EXPECT_GE(regions, 50u);  // two or more per supernode
+  // And the factor solves: K x = b for a known x.
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(k.pattern().n, -1.0, 1.0);
+  Eigen::VectorXd y;
+  chol.solve(k.times(x), y);
+  EXPECT_LT((y - x).norm(), 1e-8 * x.norm());
 }

@@ -1,18 +1,13 @@
 // OpenMP regions of one thread run directly (solver/OpenMpRegions.h): which regions go that way,
-// that their loops, reductions and barriers give what libgomp's team of one gives, and that
-// CHOLMOD's own regions come through this process's GOMP_parallel.
+// and that their loops, reductions and barriers give what libgomp's team of one gives. That
+// CHOLMOD's own regions come through this process's GOMP_parallel: test_cholmod.cpp.
 #include <gtest/gtest.h>
 
 #include <omp.h>
 
-#include <memory>
-#include <numeric>
 #include <vector>
 
-#include "mechanics/Model.h"
-#include "solver/CholmodSolver.h"
 #include "solver/OpenMpRegions.h"
-#include "tissue/Shapes.h"
 
 using namespace tp;
 
@@ -118,31 +113,4 @@ TEST(OpenMpRegions, TeamsOfSeveralThreadsAndNestedRegionsGoToLibgomp) {
   EXPECT_EQ(ids, (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(level, 1);
   EXPECT_EQ(serialRegionsRunDirectly(), before);
-}
-
-TEST(OpenMpRegions, CholmodsFactorisationComesThroughThisProcesssEntry) {
-  // If the dynamic linker bound CHOLMOD's calls to libgomp's GOMP_parallel, none would be
-  // counted here. A tangent of cubic cells (Koiter bending, clamped base: positive definite).
-  OmpSettings keep;
-  omp_set_num_threads(1);
-  auto cc = std::make_shared<CellComplex>(boxTissue(8, 8, 2, 5.0));
-  Material mat;
-  mat.youngModulus = 100;
-  mat.poissonRatio = 0.3;
-  mat.thickness = 0.2;
-  mat.bending = BendingModel::Koiter;
-  Model model(cc, mat);
-  Evaluation ev;
-  model.evaluate(cc->rest, ev, true);
-  CholmodSolver chol;
-  chol.analyze(model.pattern());
-  const auto before = serialRegionsRunDirectly();
-  ASSERT_EQ(chol.factorize(ev.hessian, 0.0), CholmodSolver::Status::Ok);
-  // Two or more regions per supernode; at least one per column block of the factor.
-  EXPECT_GE(serialRegionsRunDirectly() - before, 50u);
-  // And the factor solves: K x = b for a known x.
-  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(model.pattern().n, -1.0, 1.0), b(x.size()), y;
-  symmetricMultiply(model.pattern(), ev.hessian, x.data(), b.data());
-  chol.solve(b, y);
-  EXPECT_LT((y - x).norm(), 1e-8 * x.norm());
 }
