@@ -12,7 +12,10 @@ void initResources();
 QString shaderSource(const QString& name, QString* error = nullptr);
 /// OpenGL 3.3 core profile with a depth buffer and `samples` samples per pixel.
 QSurfaceFormat surfaceFormat(int samples);
-/// Must be called before the QApplication is created.
+/// Must be called before the QApplication is created. Also leaveTheSolverItsCores().
 void setDefaultSurfaceFormat();
+/// A software OpenGL renderer (Mesa llvmpipe) draws on the cores the simulation's worker leaves
+/// (one), unless LP_NUM_THREADS is set. Before the first OpenGL context.
+void leaveTheSolverItsCores();
 
 }  // namespace tp::gui
