@@ -923,7 +923,7 @@ int main(int argc, char** argv) {
   CLI::App app{"TissueProbe command line: AFM-style spherical indentation of a plant tissue.\n"
                "Units: lengths in um, moduli and pressures in MPa, forces in uN."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "tissueprobe-cli 0.1");
+  app.set_version_flag("--version", "tissueprobe-cli " TP_VERSION);
 
   IndentArgs ia;
   auto* indent = app.add_subcommand("indent", "Run one indentation and print the force-depth curve");

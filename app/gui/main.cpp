@@ -27,7 +27,6 @@ int main(int argc, char** argv) {
   QApplication::setOrganizationName("TissueProbe");
   QApplication::setApplicationName("TissueProbe");
   QApplication::setApplicationVersion(TP_VERSION);
-  QApplication::setApplicationVersion("0.1");
 
   QCommandLineParser parser;
   parser.setApplicationDescription(

@@ -302,6 +302,14 @@ TEST(Cli, OptionsAreCheckedUpFrontWithTheirRange) {
   EXPECT_THAT(r.output, HasSubstr("is on the clamped base of the tissue"));
 }
 
+// The version is the project's (CMakeLists.txt), as the application reports it: it printed a
+// hand-written "0.1" against the project's 0.1.0.
+TEST(Cli, VersionIsTheProjectVersion) {
+  const CliRun r = cli("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.output, std::string("tissueprobe-cli ") + TP_PROJECT_VERSION + "\n");
+}
+
 // The exit statuses the README documents, for every subcommand: 0 success, 2 bad input (a parse
 // error, an unknown subcommand or option value, a missing or unreadable file), 4 an output that
 // cannot be written. (130, interrupted: Cli.CtrlCStopsTheRunAndKeepsThePointsDone. 3, a solve
