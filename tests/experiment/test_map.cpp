@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "experiment/Map.h"
+#include "solver/CholmodSolver.h"
 #include "io/TextFile.h"
 #include "support/SmallMeristem.h"
 #include "tissue/Meristem.h"
@@ -328,19 +329,27 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   MapRunOptions o;
   o.outDir = freshDir("one");
   o.jobs = 1;
+  // The map caps BLAS at one thread while it runs and gives back the cap it found (the
+  // application's worker sets its own during a drag).
+  const int capBefore = CholmodSolver::limitBlasThreads(3);
   const MapRunSummary r = runMap(cc, plan, o);
+  EXPECT_EQ(CholmodSolver::limitBlasThreads(capBefore), 3);
   EXPECT_TRUE(r.complete);
   EXPECT_EQ(r.done, 4);
   EXPECT_EQ(r.failed, 0);
   ASSERT_EQ(r.written.size(), 3u);  // the table, its JSON and the surface
   const auto results = readResults(o.outDir, plan);
-  // The same computation as the map's worker, which runs on one thread: on two the sums come in
-  // another order, and a solve may take another path to an equilibrium within its tolerance
-  // (forces 5e-7 apart).
+  // The same computation as the map's worker, which runs on one thread, in its OpenMP regions and
+  // in BLAS: on two the sums come in another order, and a solve may take another path to an
+  // equilibrium within its tolerance (forces 5e-7 apart; 2e-6 with BLAS on two threads).
   struct OneThread {
     const int threads = omp_get_max_threads();
+    const int blas = CholmodSolver::limitBlasThreads(1);
     OneThread() { omp_set_num_threads(1); }
-    ~OneThread() { omp_set_num_threads(threads); }
+    ~OneThread() {
+      omp_set_num_threads(threads);
+      CholmodSolver::limitBlasThreads(blas);
+    }
   } oneThread;  // for the rest of this test
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
