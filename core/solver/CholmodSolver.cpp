@@ -51,9 +51,10 @@ void setBlasThreads(int n) {
 
 }  // namespace
 
-void CholmodSolver::limitBlasThreads(int n) {
-  blasThreadLimit.store(std::max(1, n));
+int CholmodSolver::limitBlasThreads(int n) {
+  const int before = blasThreadLimit.exchange(std::max(1, n));
   setBlasThreads(1);
+  return before;
 }
 
 struct CholmodSolver::Impl {

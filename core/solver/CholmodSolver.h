@@ -24,8 +24,8 @@ class CholmodSolver {
   CholmodSolver& operator=(const CholmodSolver&) = delete;
 
   /// Caps the BLAS threads of every factorisation in the process (OpenBLAS has one count for
-  /// all): 1 when several solvers run at once on their own threads.
-  static void limitBlasThreads(int n);
+  /// all): 1 when several solvers run at once on their own threads. Returns the cap before.
+  static int limitBlasThreads(int n);
 
   /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
   void analyze(const SparsePattern& pattern);
