@@ -377,10 +377,7 @@ void SimulationWorker::handle(const Depth& r) {
   // alternated) went 7.19–10.84 → 9.45–11.89 equilibria/s, faster in 5 of 5 pairs (medians 9.85
   // → 10.80). Other tasks (a pick, a curve) run while the view is still and keep every BLAS
   // thread.
-  struct BlasCap {
-    int before = CholmodSolver::limitBlasThreads(solverThreads());
-    ~BlasCap() { CholmodSolver::limitBlasThreads(before); }
-  } blasCap;
+  const CholmodSolver::BlasThreadCap blasCap(solverThreads());
   emit busy(tr("Solving at depth %1 µm…").arg(r.depth, 0, 'f', 3));
   // One equilibrium a bounded step toward the depth asked (core/experiment/Drag.h); the rest of
   // the way is the next request, unless a newer depth (the cursor's) has arrived.

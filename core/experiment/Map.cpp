@@ -1007,12 +1007,13 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
       }
     }
   };
-  const int blasBefore = CholmodSolver::limitBlasThreads(1);
-  std::vector<std::thread> threads;
-  for (int w = 1; w < jobs; ++w) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
-  CholmodSolver::limitBlasThreads(blasBefore);
+  {
+    const CholmodSolver::BlasThreadCap oneBlasThread(1);
+    std::vector<std::thread> threads;
+    for (int w = 1; w < jobs; ++w) threads.emplace_back(worker);
+    worker();
+    for (auto& t : threads) t.join();
+  }
   omp_set_num_threads(ompBefore);
   if (error) std::rethrow_exception(error);
   summary.cancelled = options.cancel && options.cancel->load();

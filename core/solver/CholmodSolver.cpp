@@ -10,9 +10,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <mutex>
 #include <cmath>
 #include <cstring>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 
 namespace tp {
@@ -33,9 +34,11 @@ int maxBlasThreads() {
 }
 
 std::atomic<int> blasThreadLimit{1 << 20};
+std::mutex capMutex;
+std::multiset<int> capsHeld;  // the BlasThreadCaps alive
 
 // OpenBLAS's thread count is one for the whole process: solvers on several threads (the
-// stiffness map's workers) share it under a lock, and their owner caps it (limitBlasThreads).
+// stiffness map's workers) share it under a lock, and their owner caps it (BlasThreadCap).
 void setBlasThreads(int n) {
   using Fn = void (*)(int);
   static const Fn fn = reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
@@ -51,10 +54,23 @@ void setBlasThreads(int n) {
 
 }  // namespace
 
-int CholmodSolver::limitBlasThreads(int n) {
-  const int before = blasThreadLimit.exchange(std::max(1, n));
+CholmodSolver::BlasThreadCap::BlasThreadCap(int threads) : threads_(std::max(1, threads)) {
+  std::lock_guard lock(capMutex);
+  capsHeld.insert(threads_);
+  blasThreadLimit.store(*capsHeld.begin());
   setBlasThreads(1);
-  return before;
+}
+
+CholmodSolver::BlasThreadCap::~BlasThreadCap() {
+  std::lock_guard lock(capMutex);
+  capsHeld.erase(capsHeld.find(threads_));
+  blasThreadLimit.store(capsHeld.empty() ? 1 << 20 : *capsHeld.begin());
+  setBlasThreads(1);
+}
+
+int CholmodSolver::blasThreadCap() {
+  std::lock_guard lock(capMutex);
+  return capsHeld.empty() ? 0 : *capsHeld.begin();
 }
 
 struct CholmodSolver::Impl {
@@ -186,30 +202,30 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 
 namespace {
 
-// One supernode's part of L y = b (forward) and of Lᵀ z = y (backward), in single precision.
-// Supernode s holds columns super[s]..super[s+1)-1 as a dense column-major block whose rows are
-// rows[pi[s]..pi[s+1]), the first of which are those columns themselves; its off-diagonal rows
-// belong to its ancestors in the elimination tree.
-// The two passes below are compiled twice with GCC on x86-64, for the baseline and for AVX2 with
-// FMA (x86-64-v3), and the loader picks the one the processor runs (GCC's function multi-
-// versioning): single-precision solves at level 3 and 4 of the default meristem took 0.71–0.75
-// of the baseline's time, the same loops (measured alternately in one process, 2026-12-06).
+// The passes of SupernodalFactor are compiled twice with GCC on x86-64, for the baseline and for
+// AVX2 with FMA (x86-64-v3), and the loader picks the one the processor runs (function multi-
+// versioning). One solve at levels 3 and 4 of the default meristem, alternated in one process
+// (2026-12-06): 0.92 × the time of Eigen's kernels per supernode with the baseline build of these
+// loops, 0.71–0.75 × with the x86-64-v3 one.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 #define TP_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define TP_SIMD_CLONES
 #endif
 
+// One supernode's part of L y = b (forward) and of Lᵀ z = y (backward), in single precision.
+// Supernode s holds columns super[s]..super[s+1)-1 as a dense column-major block whose rows are
+// rows[pi[s]..pi[s+1]), the first of which are those columns themselves; its off-diagonal rows
+// belong to its ancestors in the elimination tree.
 struct SupernodalFactor {
   const float* x;
   const int *super, *pi, *px, *rows;
 
-  // Supernode s holds columns k1 … k1 + nc − 1 of L as a column-major nr × nc block (its
-  // diagonal block on top, the rows `rows[pi[s] + nc …]` below), solved in z = [y_k ; y_rows]
-  // gathered from y. Columns go four at a time: their small triangle, then one pass over the
-  // rows below it that reads each of the four columns once and z once for all four (an axpy of
-  // four columns forward, four dot products backward): simple loops the compiler vectorises,
-  // reading the block once.
+  // Each pass works in z = [y_k ; y_rows], the supernode's entries of y gathered (k its columns
+  // k1 … k1 + nc − 1, rows its nr − nc rows below). Columns go four at a time: their small
+  // triangle, then one loop over the rows below it that reads each of the four columns once and
+  // z once for all four (an axpy of four columns forward, four dot products backward): simple
+  // loops the compiler vectorises, reading the block once.
   TP_SIMD_CLONES void forward(int s, float* y, Eigen::VectorXf& t) const {
     const int k1 = super[s], nc = super[s + 1] - k1, nr = pi[s + 1] - pi[s];
     t.resize(nr);

@@ -23,9 +23,22 @@ class CholmodSolver {
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
 
-  /// Caps the BLAS threads of every factorisation in the process (OpenBLAS has one count for
-  /// all): 1 when several solvers run at once on their own threads. Returns the cap before.
-  static int limitBlasThreads(int n);
+  /// Caps the BLAS threads of every factorisation in the process while it lives (OpenBLAS has
+  /// one count for all): 1 when several solvers run at once on their own threads (a map), the
+  /// solver's cores during a drag in the application. Caps held at once on several threads
+  /// combine to the smallest; each one's end leaves the others in force.
+  class BlasThreadCap {
+   public:
+    explicit BlasThreadCap(int threads);
+    ~BlasThreadCap();
+    BlasThreadCap(const BlasThreadCap&) = delete;
+    BlasThreadCap& operator=(const BlasThreadCap&) = delete;
+
+   private:
+    int threads_;
+  };
+  /// The cap in force (the smallest held), or 0 when there is none.
+  static int blasThreadCap();
 
   /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
   void analyze(const SparsePattern& pattern);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "experiment/Map.h"
@@ -329,11 +330,16 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   MapRunOptions o;
   o.outDir = freshDir("one");
   o.jobs = 1;
-  // The map caps BLAS at one thread while it runs and gives back the cap it found (the
-  // application's worker sets its own during a drag).
-  const int capBefore = CholmodSolver::limitBlasThreads(3);
+  // The map caps BLAS at one thread while it runs and leaves a cap held elsewhere (the
+  // application's worker holds one during a drag) in force.
+  std::optional<CholmodSolver::BlasThreadCap> elsewhere(std::in_place, 3);
+  std::vector<int> capDuring;
+  o.progress = [&](const MapProgress&) { capDuring.push_back(CholmodSolver::blasThreadCap()); };
   const MapRunSummary r = runMap(cc, plan, o);
-  EXPECT_EQ(CholmodSolver::limitBlasThreads(capBefore), 3);
+  EXPECT_EQ(capDuring, std::vector<int>(4, 1));
+  EXPECT_EQ(CholmodSolver::blasThreadCap(), 3);
+  elsewhere.reset();
+  EXPECT_EQ(CholmodSolver::blasThreadCap(), 0);
   EXPECT_TRUE(r.complete);
   EXPECT_EQ(r.done, 4);
   EXPECT_EQ(r.failed, 0);
@@ -344,12 +350,9 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   // equilibrium within its tolerance (forces 5e-7 apart; 2e-6 with BLAS on two threads).
   struct OneThread {
     const int threads = omp_get_max_threads();
-    const int blas = CholmodSolver::limitBlasThreads(1);
+    const CholmodSolver::BlasThreadCap blas{1};
     OneThread() { omp_set_num_threads(1); }
-    ~OneThread() {
-      omp_set_num_threads(threads);
-      CholmodSolver::limitBlasThreads(blas);
-    }
+    ~OneThread() { omp_set_num_threads(threads); }
   } oneThread;  // for the rest of this test
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
