@@ -1,8 +1,11 @@
 #include "experiment/Experiment.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -348,16 +351,43 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
       seed && seed->mesh ? transferPositions(*tissue_, *seed->mesh, seed->rest, *site->mesh)
                          : prolongate(baseTurgid_, site->mesh->parents);
   monitor.say("Solving the rest state of the refined tissue…");
+  // The refined tissue's model and its solver's symbolic analysis depend on the mesh alone.
+  const auto build = [&] {
+    site->model = std::make_unique<Model>(site->complex, settings_.material);
+    site->model->setUniformPressure(settings_.pressure);
+    IndentationSettings s = ind;
+    s.site.reset();
+    s.restSite = restSite_;
+    s.axis = axis_;
+    site->indentation = std::make_unique<Indentation>(*site->model, s, settings_.solver);
+    site->indentation->solver().analyze();
+  };
   if (level > 0 && !(seed && seed->mesh) && settings_.pressure != 0 &&
-      settings_.mesh.relaxAddedVertices)
-    relaxAddedVertices(*site, guess, monitor);
-  site->model = std::make_unique<Model>(site->complex, settings_.material);
-  site->model->setUniformPressure(settings_.pressure);
-  IndentationSettings s = ind;
-  s.site.reset();
-  s.restSite = restSite_;
-  s.axis = axis_;
-  site->indentation = std::make_unique<Indentation>(*site->model, s, settings_.solver);
+      settings_.mesh.relaxAddedVertices) {
+    // With a core to spare they are made on a thread of their own while the added vertices are
+    // relaxed on the other core, as one thread and BLAS on one thread (OpenBLAS's second thread
+    // would spin on the core the analysis has): the default meristem's pick 0.95–0.99 →
+    // 0.74–0.79 s, the real flower's 2.50–2.55 → 2.28–2.38 s (BM_PickSite*, bench/README.md).
+    // The analyses still run one at a time (CholmodSolver::analyze). A map's workers, at one
+    // thread each, have no core to spare and keep the order.
+    const int threads = omp_get_max_threads();
+    if (threads > 1) {
+      auto built = std::async(std::launch::async, build);
+      struct OneThread {
+        int restore;
+        ~OneThread() { omp_set_num_threads(restore); }
+      } oneThread{threads};
+      omp_set_num_threads(1);
+      const CholmodSolver::BlasThreadCap oneBlasThread(1);
+      relaxAddedVertices(*site, guess, monitor);
+      built.get();
+    } else {
+      relaxAddedVertices(*site, guess, monitor);
+      build();
+    }
+  } else {
+    build();
+  }
   site->indentation->solver().setCancelFlag(monitor.cancel);
   site->rest = site->indentation->prepare(&guess);
   site->indentation->solver().setCancelFlag(nullptr);

@@ -75,12 +75,15 @@ bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& 
   return false;
 }
 
+void StaticSolver::analyze() {
+  if (analyzedFor_ == &model_.pattern() && analyzedNnz_ == model_.pattern().nnz()) return;
+  chol_.analyze(model_.pattern());
+  analyzedFor_ = &model_.pattern();
+  analyzedNnz_ = model_.pattern().nnz();
+}
+
 double StaticSolver::timeFactorization() {
-  if (analyzedFor_ != &model_.pattern()) {
-    chol_.analyze(model_.pattern());
-    analyzedFor_ = &model_.pattern();
-    analyzedNnz_ = model_.pattern().nnz();
-  }
+  analyze();
   if (!ev_.hasHessian) {
     if (lastX_.cols() != model_.complex().vertexCount()) return 0;
     model_.evaluate(lastX_, ev_, true);

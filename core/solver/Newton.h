@@ -30,6 +30,7 @@ class StaticSolver final : public EquilibriumSolver {
   const Evaluation& lastEvaluation() const override { return ev_; }
   /// Rebuilds the symbolic analysis at the next solve.
   void patternChanged() override { analyzedFor_ = nullptr; }
+  void analyze() override;
   /// The time one numeric factorisation of the last tangent takes (s): the solver's floor.
   double timeFactorization();
 

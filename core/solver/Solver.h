@@ -111,6 +111,10 @@ class EquilibriumSolver {
   virtual const SolverTotals& totals() const = 0;
   /// Call after the model's clamped unknowns change.
   virtual void patternChanged() {}
+  /// Does now what the first solve would do first and what depends on the model's sparsity
+  /// pattern only (a direct solver's symbolic analysis), e.g. on a thread of its own while
+  /// something else is computed. Optional: a solve does it when it has not been done.
+  virtual void analyze() {}
   /// A flag checked at every iteration: when set, the solve stops and fails with "cancelled"
   /// (the state is left as given). Null: never cancelled.
   void setCancelFlag(const std::atomic<bool>* flag) { cancel_ = flag; }
