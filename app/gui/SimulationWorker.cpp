@@ -333,9 +333,11 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
   std::unique_ptr<PreparedSite> site;
   try {
     settings.validate();
-    if (!s.experiment)
+    if (!s.experiment) {
       s.experiment = std::make_unique<Experiment>(s.base, settings);
-    else
+      // A pick has the view still: the core left to the drawing helps prepare the site.
+      s.experiment->setSpareCore(std::thread::hardware_concurrency() > 1);
+    } else
       s.experiment->setSettings(settings);
     site = s.experiment->prepareSite(level, monitor);
   } catch (const Cancelled&) {

@@ -369,9 +369,9 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
     // would spin on the core the analysis has): the default meristem's pick 0.95–0.99 →
     // 0.74–0.79 s, the real flower's 2.50–2.55 → 2.28–2.38 s (BM_PickSite*, bench/README.md).
     // The analyses still run one at a time (CholmodSolver::analyze). A map's workers, at one
-    // thread each, have no core to spare and keep the order.
+    // thread each, have no core to spare and keep the order (setSpareCore).
     const int threads = omp_get_max_threads();
-    if (threads > 1) {
+    if (spareCore_.value_or(threads > 1)) {
       auto built = std::async(std::launch::async, build);
       struct OneThread {
         int restore;

@@ -168,7 +168,9 @@ class Experiment {
   const SolveReport& baseReport() const { return baseReport_; }
 
   /// The site prepared on the mesh of `level`: refinement, rest state (from the base's, carried
-  /// onto the new vertices), first contact. Throws SolveFailure or Cancelled.
+  /// onto the new vertices), first contact. Throws SolveFailure or Cancelled. With a spare core
+  /// (setSpareCore) the refined model and its symbolic analysis are built on a thread of their
+  /// own while the added vertices are relaxed (on one thread); the results are the same.
   std::unique_ptr<PreparedSite> prepareSite(int level, const Monitor& monitor = {},
                                             const Seed* seed = nullptr);
 
@@ -202,6 +204,11 @@ class Experiment {
   /// judged from it: its triangles there at most 0.8 of the contact radius √(R d) at the end
   /// depth d (`value` under force control, else the deepest depth).
   bool coarserResolvesContact(int level, double value) const;
+
+  /// Whether prepareSite() may take a second core. Default: when the calling thread's OpenMP
+  /// team has more than one thread (a map's workers have one each, and every core busy); the
+  /// application's worker, which leaves one core to the drawing, lends it to a pick.
+  void setSpareCore(bool spare) { spareCore_ = spare; }
 
   /// While on, the site an error estimate solves (the next finer level) is kept, and a run()
   /// that reaches that level starts from it instead of refining and solving it again (run()
@@ -237,6 +244,7 @@ class Experiment {
   // level of the automatic mesh starts from it instead of refining and solving it again.
   std::unique_ptr<PreparedSite> estimated_;
   bool keepEstimated_ = false;
+  std::optional<bool> spareCore_;
   std::shared_ptr<const RefinedComplex> unrefined_;  // the tissue as a refinement of itself
 };
 

@@ -192,6 +192,32 @@ TEST(Experiment, RelaxingTheAddedVerticesFirstGivesTheSameRestStateInFewerIterat
   }
 }
 
+TEST(Experiment, ASpareCoreBuildsTheSameSite) {
+  // With a spare core the refined model and its analysis are built on another thread while the
+  // added vertices are relaxed (on one thread): the same mesh, model and rest state as in turn,
+  // to the solver's tolerance (the relaxation's sums may be split otherwise), and a curve runs
+  // on it.
+  ExperimentSettings s = shallow();
+  Experiment spare(smallMeristem(), s), serial(smallMeristem(), s);
+  spare.setSpareCore(true);
+  serial.setSpareCore(false);
+  for (int level : {2, 3}) {
+    const auto a = spare.prepareSite(level);
+    const auto b = serial.prepareSite(level);
+    ASSERT_TRUE(a->indentation->prepared() && b->indentation->prepared()) << "level " << level;
+    EXPECT_EQ(a->complex->vertexCount(), b->complex->vertexCount());
+    EXPECT_EQ(a->model->pattern().nnz(), b->model->pattern().nnz());
+    EXPECT_EQ(a->model->cellPressures(), b->model->cellPressures());
+    const Points& xa = a->indentation->turgidState();
+    const Points& xb = b->indentation->turgidState();
+    EXPECT_LT((xa - xb).cwiseAbs().maxCoeff(), 1e-7) << "level " << level;
+    const CurvePoint pa = a->indentation->goToDepth(s.indentation.maxDepth);
+    const CurvePoint pb = b->indentation->goToDepth(s.indentation.maxDepth);
+    ASSERT_TRUE(pa.converged && pb.converged);
+    EXPECT_NEAR(pa.force, pb.force, 1e-6 * std::abs(pb.force)) << "level " << level;
+  }
+}
+
 TEST(Experiment, AutomaticMeshStopsAtTheFirstLevelWithinTolerance) {
   ExperimentSettings s = shallow();
   s.mesh.tolerance = 0.05;
