@@ -139,11 +139,7 @@ bool StaticSolver::tangentSolve(const Points& x, const LoadsAt& loadsAt,
   if (n == 0) return false;
   const bool reanalyse =
       analyzedFor_ != &model_.pattern() || analyzedNnz_ != model_.pattern().nnz();
-  if (reanalyse) {
-    chol_.analyze(model_.pattern());
-    analyzedFor_ = &model_.pattern();
-    analyzedNnz_ = model_.pattern().nnz();
-  }
+  analyze();
   const auto tick = Clock::now();
   model_.evaluate(x, ev_, true);
   lastX_ = x;
@@ -251,11 +247,7 @@ struct StaticSolver::Run {
 SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
   if (fc && !model_.probe()) throw std::logic_error("force control needs a probe on the model");
   Run r(x, fc, model_);
-  if (analyzedFor_ != &r.pattern || analyzedNnz_ != r.pattern.nnz()) {
-    chol_.analyze(r.pattern);
-    analyzedFor_ = &r.pattern;
-    analyzedNnz_ = r.pattern.nnz();
-  }
+  analyze();  // r.pattern is the model's
   r.diagPos.resize(r.nAll);
   for (int j = 0; j < r.nAll; ++j) r.diagPos[j] = r.pattern.colPtr[j + 1] - 1;  // row == col last
   const Material& mat = model_.material();
