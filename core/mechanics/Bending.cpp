@@ -34,7 +34,7 @@ double dihedral(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, 
   gy << v.cross(wh), wh.cross(u), P * c / wn;
   const Eigen::Matrix<double, 9, 1> gq = th_x * gx + th_y * gy;
 
-  if (grad) {  // Jᵀ g_q with J (below) written out: [c]ₓᵀ w = w × c
+  if (grad) {  // Jᵀ g_q with J = ∂q/∂x written out: [c]ₓᵀ w = w × c
     const Vec3 gu = gq.segment<3>(0), gv = gq.segment<3>(3), ge = gq.segment<3>(6);
     grad->segment<3>(0) = gu.cross(a - e) + gv.cross(e - b) - ge;
     grad->segment<3>(3) = a.cross(gu) + gv.cross(b) + ge;
@@ -43,52 +43,64 @@ double dihedral(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, 
   }
   if (!hess) return theta;
 
-  // J = ∂q/∂x, q = (u, v, e).
-  Eigen::Matrix<double, 9, 12> J = Eigen::Matrix<double, 9, 12>::Zero();
-  const Mat3 Ce = crossMatrix(e), Ca = crossMatrix(a), Cb = crossMatrix(b);
-  J.block<3, 3>(0, 0) = Ca - Ce;
-  J.block<3, 3>(0, 3) = -Ca;
-  J.block<3, 3>(0, 6) = Ce;
-  J.block<3, 3>(3, 0) = Ce - Cb;
-  J.block<3, 3>(3, 3) = Cb;
-  J.block<3, 3>(3, 9) = -Ce;
-  J.block<3, 3>(6, 0) = -Mat3::Identity();
-  J.block<3, 3>(6, 3) = Mat3::Identity();
-
-  // ∇²_q x and ∇²_q y.
-  Eigen::Matrix<double, 9, 9> Hx = Eigen::Matrix<double, 9, 9>::Zero();
-  Hx.block<3, 3>(0, 3) = Mat3::Identity();
-  Hx.block<3, 3>(3, 0) = Mat3::Identity();
-  Eigen::Matrix<double, 9, 9> Hy = Eigen::Matrix<double, 9, 9>::Zero();
-  const Mat3 Cw = crossMatrix(wh), Cu = crossMatrix(u), Cv = crossMatrix(v);
-  Hy.block<3, 3>(0, 3) = -Cw;
-  Hy.block<3, 3>(3, 0) = Cw;
-  Hy.block<3, 3>(0, 6) = Cv * P / wn;
-  Hy.block<3, 3>(6, 0) = Hy.block<3, 3>(0, 6).transpose();
-  Hy.block<3, 3>(3, 6) = -Cu * P / wn;
-  Hy.block<3, 3>(6, 3) = Hy.block<3, 3>(3, 6).transpose();
-  const double cw = c.dot(wh);
-  Hy.block<3, 3>(6, 6) = -(c * wh.transpose() + wh * c.transpose() +
-                           cw * (Mat3::Identity() - 3.0 * wh * wh.transpose())) /
-                         (wn * wn);
+  // ∇²_q θ = θ_x ∇²_q x + θ_y ∇²_q y + [∇_q x ∇_q y] S [∇_q x ∇_q y]ᵀ, S the 2 × 2 Hessian of
+  // atan2; ∇²_q x couples u and v (the identity), ∇²_q y is written block by block.
   const double r4 = r2 * r2;
   const double th_xx = 2 * x * y / r4, th_yy = -2 * x * y / r4, th_xy = (y * y - x * x) / r4;
-  const Eigen::Matrix<double, 9, 9> Hq = th_x * Hx + th_y * Hy + th_xx * gx * gx.transpose() +
-                                         th_yy * gy * gy.transpose() +
-                                         th_xy * (gx * gy.transpose() + gy * gx.transpose());
-  const Eigen::Matrix<double, 12, 9> JtH = J.transpose().lazyProduct(Hq);  // fixed sizes: no GEMM
-  hess->noalias() = JtH.lazyProduct(J);
+  Eigen::Matrix<double, 9, 2> Gxy, W;
+  Gxy << gx, gy;
+  W << th_xx * gx + th_xy * gy, th_xy * gx + th_yy * gy;
+  Eigen::Matrix<double, 9, 9> Hq;
+  Hq.noalias() = W.lazyProduct(Gxy.transpose());
+  const Mat3 Cw = crossMatrix(wh), Cu = crossMatrix(u), Cv = crossMatrix(v);
+  const Mat3 uv = th_x * Mat3::Identity() - th_y * Cw;  // the (u, v) block; (v, u) is its transpose
+  Hq.block<3, 3>(0, 3) += uv;
+  Hq.block<3, 3>(3, 0) += uv.transpose();
+  const Mat3 uw = (th_y / wn) * Cv * P, vw = (-th_y / wn) * Cu * P;
+  Hq.block<3, 3>(0, 6) += uw;
+  Hq.block<3, 3>(6, 0) += uw.transpose();
+  Hq.block<3, 3>(3, 6) += vw;
+  Hq.block<3, 3>(6, 3) += vw.transpose();
+  const double cw = c.dot(wh);
+  Hq.block<3, 3>(6, 6) -=
+      (th_y / (wn * wn)) * (c * wh.transpose() + wh * c.transpose() +
+                            cw * (Mat3::Identity() - 3.0 * wh * wh.transpose()));
 
-  // Second-order terms of the bilinear maps u(e, a) and v(b, e).
+  // θ depends on the differences (e, a, b) alone: its Hessian R over them is Mᵀ ∇²_q θ M with
+  // M = ∂q/∂(e, a, b) = [[−[a]ₓ, [e]ₓ, 0], [[b]ₓ, 0, −[e]ₓ], [I, 0, 0]] (block-sparse, written
+  // out: about a third of the work of the product with the 9 × 12 ∂q/∂x), plus the second-order
+  // terms of the bilinear u = e × a and v = b × e; then x0 = −(x1 + x2 + x3) in the differences
+  // gives the 12 × 12 blocks.
+  const Mat3 Ce = crossMatrix(e), Ca = crossMatrix(a), Cb = crossMatrix(b);
+  const auto Qu = Hq.middleCols<3>(0), Qv = Hq.middleCols<3>(3), Qw = Hq.middleCols<3>(6);
+  Eigen::Matrix<double, 9, 9> QM;  // ∇²_q θ M, columns by (e, a, b)
+  QM.middleCols<3>(0).noalias() = Qv.lazyProduct(Cb);
+  QM.middleCols<3>(0).noalias() -= Qu.lazyProduct(Ca);
+  QM.middleCols<3>(0) += Qw;
+  QM.middleCols<3>(3).noalias() = Qu.lazyProduct(Ce);
+  QM.middleCols<3>(6).noalias() = -Qv.lazyProduct(Ce);
+  Eigen::Matrix<double, 9, 9> R;  // Mᵀ (∇²_q θ M); [c]ₓᵀ = −[c]ₓ
+  R.middleRows<3>(0).noalias() = Ca.lazyProduct(QM.middleRows<3>(0));
+  R.middleRows<3>(0).noalias() -= Cb.lazyProduct(QM.middleRows<3>(3));
+  R.middleRows<3>(0) += QM.middleRows<3>(6);
+  R.middleRows<3>(3).noalias() = -Ce.lazyProduct(QM.middleRows<3>(0));
+  R.middleRows<3>(6).noalias() = Ce.lazyProduct(QM.middleRows<3>(3));
+  // gu·(e × a) and gv·(b × e): ∂²/∂e∂a = −[gu]ₓ, ∂²/∂e∂b = [gv]ₓ.
   const Mat3 Gu = crossMatrix(gq.segment<3>(0)), Gv = crossMatrix(gq.segment<3>(3));
-  const double se[4] = {-1, 1, 0, 0}, sa[4] = {-1, 0, 1, 0}, sb[4] = {-1, 0, 0, 1};
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) {
-      const double cu1 = se[i] * sa[j], cu2 = sa[i] * se[j];
-      const double cv1 = sb[i] * se[j], cv2 = se[i] * sb[j];
-      if (cu1 == 0 && cu2 == 0 && cv1 == 0 && cv2 == 0) continue;
-      hess->block<3, 3>(3 * i, 3 * j) += (cu2 - cu1) * Gu + (cv2 - cv1) * Gv;
-    }
+  R.block<3, 3>(0, 3) -= Gu;
+  R.block<3, 3>(3, 0) += Gu;
+  R.block<3, 3>(0, 6) += Gv;
+  R.block<3, 3>(6, 0) -= Gv;
+  hess->block<9, 9>(3, 3) = R;
+  Mat3 corner = Mat3::Zero();
+  for (int j = 0; j < 3; ++j) {
+    const Mat3 col = R.block<3, 3>(0, 3 * j) + R.block<3, 3>(3, 3 * j) + R.block<3, 3>(6, 3 * j);
+    const Mat3 row = R.block<3, 3>(3 * j, 0) + R.block<3, 3>(3 * j, 3) + R.block<3, 3>(3 * j, 6);
+    hess->block<3, 3>(0, 3 + 3 * j) = -col;
+    hess->block<3, 3>(3 + 3 * j, 0) = -row;
+    corner += col;
+  }
+  hess->block<3, 3>(0, 0) = corner;
   return theta;
 }
 
