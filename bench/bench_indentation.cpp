@@ -5,7 +5,6 @@
 // method (implicit Euler + CG) on the same curve and mesh.
 // Run: build/bin/bench_indentation [--benchmark_filter=...]; see bench/README.md.
 #include <benchmark/benchmark.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +20,7 @@
 #include "io/Centroids.h"
 #include "solver/CholmodSolver.h"
 #include "solver/Newton.h"
+#include "solver/OpenMpRegions.h"
 #include "tissue/RealTissue.h"
 
 using namespace tp;
@@ -262,8 +262,7 @@ void BM_DragReplay(benchmark::State& state) {
     const int phase = static_cast<int>(std::floor(t / event)) % 200;
     return (phase < 100 ? phase : 200 - phase) * radius / 100;
   };
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
+  const OmpThreadsScope oneThread(1);
   int equilibria = 0, iterations = 0, factorizations = 0;
   double travelled = 0, deepest = 0, elapsed = 0;
   for (auto _ : state) {
@@ -294,7 +293,6 @@ void BM_DragReplay(benchmark::State& state) {
     elapsed = now();
     factorizations = ind.solver().totals().factorizations - before.factorizations;
   }
-  omp_set_num_threads(threads);
   state.counters["equilibria_per_s"] = equilibria / elapsed;
   state.counters["travel_um"] = travelled;
   state.counters["deepest_um"] = deepest;

@@ -12,6 +12,7 @@
 
 #include "mesh/CellComplex.h"
 #include "solver/Newton.h"
+#include "solver/OpenMpRegions.h"
 
 namespace tp {
 
@@ -373,11 +374,7 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
     const int threads = omp_get_max_threads();
     if (spareCore_.value_or(threads > 1)) {
       auto built = std::async(std::launch::async, build);
-      struct OneThread {
-        int restore;
-        ~OneThread() { omp_set_num_threads(restore); }
-      } oneThread{threads};
-      omp_set_num_threads(1);
+      const OmpThreadsScope oneThread(1);
       const CholmodSolver::BlasThreadCap oneBlasThread(1);
       relaxAddedVertices(*site, guess, monitor);
       built.get();

@@ -1,7 +1,5 @@
 #include "experiment/Map.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -23,6 +21,7 @@
 #include "io/Vtu.h"
 #include "mechanics/Contact.h"
 #include "solver/CholmodSolver.h"
+#include "solver/OpenMpRegions.h"
 
 namespace tp {
 
@@ -919,7 +918,6 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
   plan.checkSize();
   const json planJson = plan.toJson();
   ensurePlan(options.outDir, planJson);
-  const int ompBefore = omp_get_max_threads();
   const auto done0 = readResults(options.outDir, plan);
   MapRunSummary summary;
   std::vector<int> todo;
@@ -944,8 +942,9 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
   auto worker = [&] {
     // One thread per worker, for the assembly's OpenMP regions and for BLAS: the workers are
     // the parallelism, and a task's bits then do not depend on how many workers, shards or
-    // cores there are (parallel sums and BLAS kernels split their work by thread count).
-    omp_set_num_threads(1);
+    // cores there are (parallel sums and BLAS kernels split their work by thread count). One
+    // worker runs on the calling thread, whose team size comes back when it ends.
+    const OmpThreadsScope oneThread(1);
     std::unique_ptr<Experiment> experiment;
     Monitor monitor;
     monitor.cancel = options.cancel;
@@ -960,8 +959,10 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
       const auto t0 = std::chrono::steady_clock::now();
       try {
         const ExperimentSettings s = plan.taskSettings(task);
-        if (!experiment) experiment = std::make_unique<Experiment>(tissue, s);
-        else experiment->setSettings(s);
+        if (!experiment)
+          experiment = std::make_unique<Experiment>(tissue, s);
+        else
+          experiment->setSettings(s);
         TaskResult r;
         try {
           const ExperimentResult x = experiment->run(monitor);
@@ -1014,7 +1015,6 @@ MapRunSummary runMap(std::shared_ptr<const CellComplex> tissue, const MapPlan& p
     worker();
     for (auto& t : threads) t.join();
   }
-  omp_set_num_threads(ompBefore);
   if (error) std::rethrow_exception(error);
   summary.cancelled = options.cancel && options.cancel->load();
   char line[160];

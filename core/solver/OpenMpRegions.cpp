@@ -62,6 +62,14 @@ bool oneThread(unsigned asked) {
 
 std::uint64_t serialRegionsRunDirectly() { return directRegions; }
 
+OmpThreadsScope::OmpThreadsScope(int threads) : restore_(omp_get_max_threads()) {
+  omp_set_num_threads(threads);
+}
+
+OmpThreadsScope::~OmpThreadsScope() {
+  omp_set_num_threads(restore_);
+}
+
 }  // namespace tp
 
 extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned numThreads,

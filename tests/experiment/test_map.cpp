@@ -3,7 +3,6 @@
 // task numbering, results that survive their files, a map whose tasks are the indentations they
 // say, and the same table from one process, two workers, two shards merged, and a resumed run.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <atomic>
 #include <cmath>
@@ -13,8 +12,9 @@
 #include <sstream>
 
 #include "experiment/Map.h"
-#include "solver/CholmodSolver.h"
 #include "io/TextFile.h"
+#include "solver/CholmodSolver.h"
+#include "solver/OpenMpRegions.h"
 #include "support/SmallMeristem.h"
 #include "tissue/Meristem.h"
 #include "tissue/Shapes.h"
@@ -348,12 +348,8 @@ TEST(MapRun, EachTaskIsTheIndentationOfItsSite) {
   // The same computation as the map's worker, which runs on one thread, in its OpenMP regions and
   // in BLAS: on two the sums come in another order, and a solve may take another path to an
   // equilibrium within its tolerance (forces 5e-7 apart; 2e-6 with BLAS on two threads).
-  struct OneThread {
-    const int threads = omp_get_max_threads();
-    const CholmodSolver::BlasThreadCap blas{1};
-    OneThread() { omp_set_num_threads(1); }
-    ~OneThread() { omp_set_num_threads(threads); }
-  } oneThread;  // for the rest of this test
+  const OmpThreadsScope oneThread(1);  // for the rest of this test
+  const CholmodSolver::BlasThreadCap oneBlasThread(1);
   for (int t : {0, 3}) {
     Experiment e(cc, plan.taskSettings(t));
     const ExperimentResult x = e.run();

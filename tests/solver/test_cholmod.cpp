@@ -154,14 +154,16 @@ TEST(Cholmod, FactorisationsRegionsComeThroughThisProcesssEntry) {
   // they run directly (solver/OpenMpRegions.h) only if the dynamic linker bound CHOLMOD's calls
   // to this process's GOMP_parallel rather than libgomp's: then they are counted here.
   const Tangent k;
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
   CholmodSolver chol;
   chol.analyze(k.pattern());
-  const auto before = serialRegionsRunDirectly();
-  const auto status = chol.factorize(k.ev.hessian, 0.0);
-  const auto regions = serialRegionsRunDirectly() - before;
-  omp_set_num_threads(threads);
+  std::uint64_t regions = 0;
+  CholmodSolver::Status status;
+  {
+    const OmpThreadsScope oneThread(1);
+    const auto before = serialRegionsRunDirectly();
+    status = chol.factorize(k.ev.hessian, 0.0);
+    regions = serialRegionsRunDirectly() - before;
+  }
   ASSERT_EQ(status, CholmodSolver::Status::Ok);
   EXPECT_GE(regions, 50u);  // two or more per supernode
   // And the factor solves: K x = b for a known x.
