@@ -300,6 +300,56 @@ void BM_DragReplay(benchmark::State& state) {
   state.counters["factorizations"] = factorizations;
 }
 
+// The drag's steps on a fixed path, with and without the renewed chord (DragOptions::
+// renewedChord), alternated three times each in this process: the cursor moves 6 pixels (0.06
+// probe radii) per call, down one radius and back, for 300 calls, whatever the solves take, so
+// both follow the same cursor. Counters: milliseconds per equilibrium and the probe's travel
+// per second of solving (how fast it follows), medians of the three runs of each.
+void BM_DragFixedPath(benchmark::State& state) {
+  Setup s = prepare(static_cast<int>(state.range(0)));
+  Indentation& ind = s.indentation();
+  const double radius = ind.settings().probeRadius;
+  const OmpThreadsScope oneThread(1);
+  std::vector<double> perEq[2], speed[2];
+  for (auto _ : state) {
+    for (int run = 0; run < 6; ++run) {
+      const int renewed = run % 2;
+      ind.returnToFirstContact();
+      DragOptions o;
+      o.renewedChord = renewed == 1;
+      DragFollower drag(o);
+      int equilibria = 0;
+      double travelled = 0, last = ind.depth();
+      const auto start = Clock::now();
+      for (int k = 0; k < 300; ++k) {
+        const int phase = (6 * k) % 200;
+        const double asked = (phase < 100 ? phase : 200 - phase) * radius / 100;
+        if (asked == ind.depth()) continue;
+        const DragStep step = drag.toward(ind, asked);
+        if (step.failed()) {
+          state.SkipWithError(ind.lastMessage().c_str());
+          return;
+        }
+        if (!step.point.converged) continue;
+        ++equilibria;
+        travelled += std::abs(step.point.depth - last);
+        last = step.point.depth;
+      }
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      perEq[renewed].push_back(1000 * seconds / std::max(equilibria, 1));
+      speed[renewed].push_back(travelled / seconds);
+    }
+  }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  state.counters["ms_per_eq_renewed"] = median(perEq[1]);
+  state.counters["ms_per_eq_assembled"] = median(perEq[0]);
+  state.counters["um_per_s_renewed"] = median(speed[1]);
+  state.counters["um_per_s_assembled"] = median(speed[0]);
+}
+
 void BM_LoadingCurve(benchmark::State& state) { curve(state, SolverKind::Newton, true); }
 // Ours and the published method on the same (hinge) model.
 void BM_LoadingCurveHinge(benchmark::State& state) {
@@ -365,6 +415,7 @@ BENCHMARK(BM_Factorization)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecon
 BENCHMARK(BM_PreconditionerSolve)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EquilibriumStep)->Arg(0)->Arg(3)->Arg(4)->Iterations(21)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DragReplay)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_DragFixedPath)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(BM_LoadingCurve)->Arg(0)->Arg(3)->Arg(4)->Iterations(1)->Unit(benchmark::kSecond);
 // The reference takes minutes per curve: level 0 and the default level 3; TP_BENCH_ALL=1 adds 4.
 BENCHMARK(BM_LoadingCurveHinge)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond);

@@ -7,12 +7,17 @@ namespace tp {
 
 DragStep DragFollower::toward(Indentation& ind, double depth) {
   SolverOptions& solver = ind.solver().options();
-  struct Restore {  // the solver's own tolerance, whatever happens
+  struct Restore {  // the solver's own settings, whatever happens
     SolverOptions& o;
     double tolerance;
-    ~Restore() { o.tolerance = tolerance; }
-  } restore{solver, solver.tolerance};
+    bool renewedChord;
+    ~Restore() {
+      o.tolerance = tolerance;
+      o.renewedChordFirst = renewedChord;
+    }
+  } restore{solver, solver.tolerance, solver.renewedChordFirst};
   solver.tolerance = std::max(restore.tolerance, options_.tolerance);
+  solver.renewedChordFirst = options_.renewedChord;
 
   const double radius = ind.settings().probeRadius;
   const double smallest = options_.minRadii * radius;

@@ -45,7 +45,10 @@ Model::Model(std::shared_ptr<const CellComplex> cc, const Material& material)
     if (auto term = reg.make(context)) terms_.push_back(std::move(term));
   for (const auto& t : terms_) {
     if (auto* p = dynamic_cast<PressureTerm*>(t.get())) pressure_ = p;
-    if (auto* p = dynamic_cast<ContactTerm*>(t.get())) contact_ = p;
+    if (auto* p = dynamic_cast<ContactTerm*>(t.get())) {
+      contact_ = p;
+      contactIndex_ = static_cast<int>(&t - terms_.data());
+    }
     if (auto* p = dynamic_cast<PointForceTerm*>(t.get())) forces_ = p;
   }
   if (!pressure_ || !contact_ || !forces_)

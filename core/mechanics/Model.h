@@ -79,6 +79,8 @@ class Model {
   void setPointForces(std::vector<std::pair<int, Vec3>> forces);
 
   void setProbe(const Probe& probe) { contact_->setProbe(probe); }
+  /// The contact term's index in terms() (for EvalOptions::onlyTerm).
+  int contactTerm() const { return contactIndex_; }
   void clearProbe() { contact_->clearProbe(); }
   const std::optional<Probe>& probe() const { return contact_->probe(); }
   void setContactLaw(const ContactLaw& law) { contact_->setLaw(law); }
@@ -132,6 +134,7 @@ class Model {
   std::vector<int> firstUnknown_;  // per term: the index of its first own unknown
   PressureTerm* pressure_ = nullptr;
   ContactTerm* contact_ = nullptr;
+  int contactIndex_ = -1;
   PointForceTerm* forces_ = nullptr;
   // Per-thread accumulators of evaluate() (reused; a Model is evaluated by one caller at a time).
   mutable std::vector<std::vector<double>> threadGrad_, threadVals_;

@@ -91,6 +91,11 @@ class ContactRelaxation {
             bool projected);
   /// The held tangent's values, when held for this model's pattern and probe radius (else null).
   const std::vector<double>* heldTangent(const Model& model) const;
+  /// Where the held tangent was assembled: the positions, the probe, and whether its contact
+  /// part was each element's positive part.
+  const Points& heldPositions() const { return x_; }
+  const Probe& heldProbe() const { return probe_; }
+  bool heldProjected() const { return projected_; }
 
   /// The move of the local unknowns' positions (into dx, 3 × V, zero elsewhere) that minimises
   /// the local energy at x, whose gradient over all components is `gradient`; stops when the

@@ -240,6 +240,7 @@ struct StaticSolver::Run {
   double lastResidual = 0;  // at the previous iteration of this solve (0 at the first)
   bool relaxed = false;     // this iteration started with a kept contact relaxation
   bool nearStart = false;   // the solve started within 1e4 × the target: exact tangent at once
+  bool renewedChord = false;   // this iteration's direction on the held tangent, contact renewed
   const char* direction = "";  // how the last direction was found (verbose output)
   Points xt, stepPoints;
 };
@@ -339,7 +340,18 @@ SolveReport StaticSolver::solveImpl(Points& x, ForceControl* fc) {
     if (it == 0 && options_.relaxContact && ev_.contactTriangles > 0 && model_.probe() &&
         !relax_.heldTangent(model_))
       evaluateAt(r, r.x, r.travel, true, ev_, options_.projectContactHessian && !r.nearStart);
-    r.relaxed = relaxContact(r, goal, it == 0);
+    // A near start's first direction on the tangent held from the last assembly (an earlier
+    // solve's, for a drag the step before), its contact part renewed here: between neighbouring
+    // equilibria the walls' tangent changes little, the contact's most (the patch grows and
+    // shrinks), and that costs two evaluations of the contact term instead of a whole assembly
+    // (a fifth of a drag step at level 3). On the drag replay (BM_DragReplay/3) the step cut
+    // the residual 40–130× where the assembled tangent cut it 60–250×, so a drag's steps settle
+    // smaller (core/experiment/Drag.h); loading curves, at a tighter tolerance, keep it off. If
+    // CG fails on it, newtonDirection assembles.
+    r.renewedChord = options_.renewedChordFirst && options_.relaxContact && it == 0 &&
+                     r.nearStart && !r.fc && r.shift == 0 && model_.probe() &&
+                     relax_.heldTangent(model_);
+    r.relaxed = relaxContact(r, goal, it == 0 && !r.renewedChord);
     if (r.relaxed && rep.residual <= goal) return succeed();
     std::string why;
     if (!newtonDirection(r, it, why)) return fail(r, why);
@@ -392,6 +404,28 @@ bool StaticSolver::relaxContact(Run& r, double goal, bool withTangent) {
   return kept;
 }
 
+// The held tangent K_h (assembled at x_h with the probe then) with its contact part C renewed
+// at x with the probe now: K_h − C(x_h) + C(x), C with the held tangent's projection.
+const std::vector<double>* StaticSolver::renewedHeldTangent(const Points& x) {
+  const std::vector<double>* held = relax_.heldTangent(model_);
+  if (!held || !model_.probe()) return nullptr;
+  const auto tick = Clock::now();
+  const EvalOptions o{
+      .hessian = true, .projectContact = relax_.heldProjected(), .onlyTerm = model_.contactTerm()};
+  const Probe now = *model_.probe();
+  model_.setProbe(relax_.heldProbe());
+  model_.evaluate(relax_.heldPositions(), contactThen_, o);
+  model_.setProbe(now);
+  model_.evaluate(x, contactNow_, o);
+  renewed_.resize(held->size());
+  const double *h = held->data(), *c0 = contactThen_.hessian.data(),
+               *c1 = contactNow_.hessian.data();
+  for (size_t i = 0; i < renewed_.size(); ++i) renewed_[i] = h[i] + (c1[i] - c0[i]);
+  totals_.assemblySeconds += seconds(tick);
+  ++totals_.renewedChords;
+  return &renewed_;
+}
+
 SolveReport StaticSolver::fail(Run& r, const std::string& why) {
   r.x = r.x0;
   if (r.fc) {
@@ -420,6 +454,7 @@ void StaticSolver::evaluateAt(Run& r, const Points& at, double travel, bool with
   if (withHessian && options_.relaxContact && model_.probe())
     relax_.hold(model_, at, e.hessian, e.contactProjected);
   (withHessian ? totals_.assemblySeconds : totals_.lineSearchSeconds) += seconds(tick);
+  if (withHessian) ++totals_.assemblies;
 }
 
 // Energy (with the work of the applied force), residual (into r.g, r.gs) and load scale.
@@ -456,7 +491,8 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   // iteration (held by relax_) serves instead of a new assembly (a quarter of a step's time at
   // level 3). If CG fails on it, the tangent here is assembled after all.
   const std::vector<double>* chord =
-      it >= 1 && !r.fc && r.shift == 0 && r.relaxed && r.rep.residual < 1e-2 * r.lastResidual
+      r.renewedChord ? renewedHeldTangent(r.x)
+      : it >= 1 && !r.fc && r.shift == 0 && r.relaxed && r.rep.residual < 1e-2 * r.lastResidual
           ? relax_.heldTangent(model_)
           : nullptr;
   if (!chord &&
@@ -532,6 +568,7 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
   }
   if (!solved && chord) {
     r.relaxed = false;  // no chord again: the tangent at this iterate
+    r.renewedChord = false;
     evaluateAt(r, r.x, r.travel, true, ev_, projectFirst);
     return newtonDirection(r, it, why);
   }
@@ -569,9 +606,10 @@ bool StaticSolver::newtonDirection(Run& r, int it, std::string& why) {
     if (r.fc) chol_.solve(r.b, r.z2);
     totals_.factorSeconds += seconds(tick);
   }
-  r.direction = chord    ? "CG on the last tangent (chord)"
-                : solved ? (ev_.contactProjected ? "CG, contact projected" : "CG")
-                         : (ev_.contactProjected ? "factor, contact projected" : "factor");
+  r.direction = r.renewedChord ? "CG on the held tangent, contact renewed"
+                : chord        ? "CG on the last tangent (chord)"
+                : solved       ? (ev_.contactProjected ? "CG, contact projected" : "CG")
+                               : (ev_.contactProjected ? "factor, contact projected" : "factor");
   r.dx = -r.dx;
   return true;
 }

@@ -50,6 +50,7 @@ class StaticSolver final : public EquilibriumSolver {
   double stepLimit(Run& r, double ds);
   double lineSearch(Run& r, double ds, double slope, double alphaMax);
   bool relaxContact(Run& r, double goal, bool withTangent);
+  const std::vector<double>* renewedHeldTangent(const Points& x);
   void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// Factorises ev_'s tangent (+ shift·I), first replacing the contact Hessian by its positive
   /// part (projectContact) and then growing the shift while it is not positive definite.
@@ -77,6 +78,9 @@ class StaticSolver final : public EquilibriumSolver {
   PatternRows patternRows_;
   ContactRelaxation relax_;
   LocalTangent local_;
+  // The held tangent with its contact part renewed, and the contact part's values then and now.
+  std::vector<double> renewed_;
+  Evaluation contactThen_, contactNow_;
 };
 
 }  // namespace tp

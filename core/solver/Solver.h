@@ -34,6 +34,9 @@ struct SolverOptions {
   bool relaxContact = true;    // the contact patch's own solves between and inside Newton
                                // iterations (solver/ContactRelaxation.h): its vertices relaxed,
                                // chord steps, its block in CG's preconditioner
+  bool renewedChordFirst = false;  // a start near the solution takes its first direction on
+                                   // the tangent held from the last assembly, its contact part
+                                   // renewed (StaticSolver::renewedHeldTangent); drags use it
   bool verbose = false;        // print one line per iteration to stderr
 
   // Reference solver (implicit Euler, Rayleigh damping, CG), with SOFA's usual settings.
@@ -71,6 +74,8 @@ struct SolveReport {
 /// Totals over every solve of one solver (benchmarks, reports).
 struct SolverTotals {
   int solves = 0, iterations = 0, factorizations = 0, pcgIterations = 0;
+  int assemblies = 0;     // tangents assembled in Newton iterations
+  int renewedChords = 0;  // first directions on the held tangent, its contact part renewed
   double assemblySeconds = 0, factorSeconds = 0, pcgSeconds = 0, lineSearchSeconds = 0;
 };
 

@@ -1,6 +1,7 @@
 // Following a dragged probe (core/experiment/Drag.h) on a small turgid tissue: bounded steps
 // toward the depth asked, an adaptive step, reversal, the solver's tolerance left as it was,
-// and failures retried smaller and then reported.
+// failures retried smaller and then reported, and the renewed chord of each step's first
+// direction (the same equilibria for fewer assemblies).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -123,4 +124,65 @@ TEST(DragFollower, AFailedStepIsRetriedSmallerThenReported) {
   EXPECT_EQ((f.ind->state() - before).norm(), 0.0);
   EXPECT_NE(f.ind->lastMessage().find("no equilibrium"), std::string::npos) << f.ind->lastMessage();
   EXPECT_EQ(f.ind->solver().options().tolerance, tolerance);
+}
+
+TEST(DragFollower, TheProbeChangesTheTangentOnlyThroughTheContactTerm) {
+  // What the renewed chord of a drag step rests on (SolverOptions::renewedChordFirst): at the
+  // same positions, moving the probe changes the tangent by the contact term's part alone,
+  // K(x, p') = K(x, p) − C(x, p) + C(x, p'), to rounding.
+  DragTissue f;
+  ASSERT_TRUE(f.ind->goToDepth(0.3).converged);
+  Model& m = *f.model;
+  const Points x = f.ind->state();
+  const Probe p = *m.probe(), moved{p.center + 0.05 * f.ind->placement().axis, p.radius};
+  const EvalOptions all{.hessian = true}, contact{.hessian = true, .onlyTerm = m.contactTerm()};
+  ASSERT_GE(m.contactTerm(), 0);
+  Evaluation K, C, K2, C2;
+  m.evaluate(x, K, all);
+  m.evaluate(x, C, contact);
+  m.setProbe(moved);
+  m.evaluate(x, K2, all);
+  m.evaluate(x, C2, contact);
+  m.setProbe(p);
+  ASSERT_GT(K.contactTriangles, 0);
+  double scale = 0, contactChange = 0, mismatch = 0;
+  for (size_t i = 0; i < K.hessian.size(); ++i) {
+    scale = std::max(scale, std::abs(K.hessian[i]));
+    contactChange = std::max(contactChange, std::abs(C2.hessian[i] - C.hessian[i]));
+    mismatch =
+        std::max(mismatch, std::abs(K2.hessian[i] - (K.hessian[i] - C.hessian[i] + C2.hessian[i])));
+  }
+  EXPECT_GT(contactChange, 1e-3 * scale);  // the probe's move does change the tangent
+  EXPECT_LE(mismatch, 1e-12 * scale);
+}
+
+TEST(DragFollower, RenewedChordsSaveAssembliesAndKeepTheEquilibria) {
+  // Down to 0.4 µm and back to 0.1 µm, with each step's first direction on the held tangent
+  // (contact part renewed, the default) and with a new assembly for it: the same forces where
+  // both end (each within the drag's 1e-7 residual), fewer assemblies per equilibrium with it.
+  double force[2][2];
+  double assembliesPerEquilibrium[2];
+  for (int renewed = 0; renewed < 2; ++renewed) {
+    DragTissue f;
+    DragOptions o;
+    o.renewedChord = renewed == 1;
+    DragFollower drag(o);
+    const SolverTotals before = f.ind->solver().totals();
+    int calls = 0, equilibria = 0;
+    CurvePoint end;
+    followDrag(drag, *f.ind, 0.4, calls, &end);
+    equilibria += calls + 1;
+    force[renewed][0] = end.force;
+    followDrag(drag, *f.ind, 0.1, calls, &end);
+    equilibria += calls + 1;
+    force[renewed][1] = end.force;
+    const SolverTotals& after = f.ind->solver().totals();
+    EXPECT_EQ(after.renewedChords > before.renewedChords, renewed == 1);
+    assembliesPerEquilibrium[renewed] = double(after.assemblies - before.assemblies) / equilibria;
+    EXPECT_FALSE(f.ind->solver().options().renewedChordFirst);  // only during the steps
+  }
+  EXPECT_NEAR(force[1][0], force[0][0], 1e-5 * force[0][0]);
+  EXPECT_NEAR(force[1][1], force[0][1], 1e-5 * force[0][1]);
+  EXPECT_LT(assembliesPerEquilibrium[1], 0.8 * assembliesPerEquilibrium[0])
+      << assembliesPerEquilibrium[1] << " against " << assembliesPerEquilibrium[0];
 }
