@@ -27,12 +27,16 @@ struct DragOptions {
   int growAtMost = 1;
   int shrinkAbove = 1;
   // Each step's first Newton direction on the tangent of the last assembly with its contact
-  // part renewed (SolverOptions::renewedChordFirst) instead of a new assembly. The step then
-  // cuts the residual 40–130× instead of 60–250×, so the steps settle smaller at the same share
-  // of second iterations, and cheaper: on a fixed cursor path at level 3 (300 calls, one thread)
-  // 58–78 ms an equilibrium against 76–88, the probe following at the same 0.23–0.30 µm/s
-  // (bench/README.md). More equilibria a second at the same speed: a smoother drag. Loading
-  // curves keep it off: at their tighter tolerance it cost more iterations (level 3: 68 → 91).
+  // part renewed (SolverOptions::renewedChordFirst) instead of a new assembly. That step cuts
+  // the residual 40–130× instead of 60–250×, so under the rule above the steps settle smaller,
+  // and cheaper: BM_DragFixedPath/3 (one thread) 59.9 ms an equilibrium against 78.3, the probe
+  // following at 0.30 against 0.31 µm per second of solving; in the application under Xvfb
+  // (dragRatesOnTheDefaultMeristem, six runs each, alternated) 9.4–11.5 equilibria/s (median
+  // 10.5) against 7.7–10.3 (9.9), the probe shown travelling 3.5–4.2 µm in 20 s against
+  // 3.5–5.0 (medians 3.8, 4.6). More equilibria a second, the probe following 5–15 % slower:
+  // liveliness, which the rule above puts first. (Not counting the renewed iteration when the rule decides goes the other way:
+  // 128 ms an equilibrium, 0.40 µm/s.) Loading curves keep it off: at their tighter tolerance
+  // it cost iterations (level 3: 68 → 91).
   bool renewedChord = true;
 };
 
