@@ -7,8 +7,8 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
-  # numerics: Eigen, CHOLMOD (SuiteSparse) on OpenBLAS, voro++, CGAL, TBB
-  libeigen3-dev libsuitesparse-dev libopenblas-dev voro++-dev libcgal-dev libgmp-dev libmpfr-dev libtbb-dev
+  # numerics: Eigen, CHOLMOD (SuiteSparse) on OpenBLAS, METIS, voro++, CGAL, TBB
+  libeigen3-dev libsuitesparse-dev libmetis-dev libopenblas-dev voro++-dev libcgal-dev libgmp-dev libmpfr-dev libtbb-dev
   # formats and command line
   nlohmann-json3-dev libcli11-dev
   # fitting measured curves: Ceres Solver (Levenberg-Marquardt)

@@ -101,6 +101,18 @@ void Model::setFixedDofs(const std::vector<std::uint8_t>& fixedDof) {
   for (size_t k = 0; k < terms_.size(); ++k) terms_[k]->bind(layout_, firstUnknown_[k]);
 }
 
+std::vector<int> Model::orderingNodes() const {
+  std::vector<int> node;
+  node.reserve(pattern_.n);
+  for (int d : dofs_.freeDofs()) node.push_back(d / 3);
+  // The terms' own unknowns are nodes of their own: Koiter's edge unknowns grouped with a vertex
+  // of their edge gave 2.3–2.5 times the factor's nonzeros (levels 2–4 of the default
+  // meristem's top).
+  for (int next = cc_->vertexCount(); static_cast<int>(node.size()) < pattern_.n;)
+    node.push_back(next++);
+  return node;
+}
+
 void Model::setCellPressures(std::vector<double> pressures) {
   pressure_->setCellPressures(std::move(pressures));
 }

@@ -74,6 +74,10 @@ class Model {
   /// with the whole matrix, a zero right-hand side for the terms' unknowns, and keeps the
   /// position part.
   const SparsePattern& pattern() const { return pattern_; }
+  /// The node of each of the pattern's unknowns for the fill-reducing ordering
+  /// (CholmodSolver::analyze): a free position component's vertex, and for each of the terms'
+  /// own unknowns a node of its own (numbered from vertexCount()).
+  std::vector<int> orderingNodes() const;
 
   /// Point loads (µN) on vertices: W = −Σ f·x.
   void setPointForces(std::vector<std::pair<int, Vec3>> forces);

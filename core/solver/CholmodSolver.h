@@ -41,7 +41,9 @@ class CholmodSolver {
   static int blasThreadCap();
 
   /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
-  void analyze(const SparsePattern& pattern);
+  /// `node` (optional): for each unknown, its node (vertex), nondecreasing, a node's unknowns
+  /// consecutive; the ordering is then computed on the graph of the nodes.
+  void analyze(const SparsePattern& pattern, std::span<const int> node = {});
   bool analyzed() const;
 
   enum class Status { Ok, NotPositiveDefinite, NonFinite, Failed };

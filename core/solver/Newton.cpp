@@ -77,7 +77,7 @@ bool StaticSolver::pcg(const SparsePattern& pattern, const std::vector<double>& 
 
 void StaticSolver::analyze() {
   if (analyzedFor_ == &model_.pattern() && analyzedNnz_ == model_.pattern().nnz()) return;
-  chol_.analyze(model_.pattern());
+  chol_.analyze(model_.pattern(), model_.orderingNodes());
   analyzedFor_ = &model_.pattern();
   analyzedNnz_ = model_.pattern().nnz();
 }
