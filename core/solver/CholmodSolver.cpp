@@ -201,7 +201,7 @@ void CholmodSolver::analyze(const SparsePattern& pattern, std::span<const int> n
     // srand() at every call. Two analyses at once (a stiffness map's workers) drew from each
     // other's sequence, so the same site got another ordering, hence other last bits, from run
     // to run and with the number of workers. The wait is short: analyses are about a tenth of
-    // a map site (bench/README.md).
+    // a map site's time (a seventh before they ordered the vertices' graph, bench/README.md).
     static std::mutex orderingMutex;
     std::lock_guard lock(orderingMutex);
     if (!node.empty() && n > 0) {
