@@ -8,26 +8,27 @@
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
-#include <QCloseEvent>
-#include <QDockWidget>
-#include <QPushButton>
-#include <QFormLayout>
-#include <QDialogButtonBox>
-#include <QDialog>
 #include <QCheckBox>
+#include <QCloseEvent>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDockWidget>
+#include <QFile>
 #include <QFileInfo>
+#include <QFormLayout>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QPushButton>
+#include <QScreen>
 #include <QScrollArea>
 #include <QSettings>
 #include <QStatusBar>
 #include <QTextBrowser>
 #include <QToolBar>
 #include <QVBoxLayout>
-#include <QFile>
 
 #include "Autosave.h"
 #include "BusyIndicator.h"
@@ -66,7 +67,13 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   wire();
   controller_->setParams(params_->params());
   controller_->setSchedule(params_->schedule());
-  resize(1280, 800);
+  // The first window fits the screen it opens on, with room for a title bar: the layout's
+  // 1280×800 is taller than a 1280×800 or 1366×768 laptop screen, and the status bar at the
+  // bottom carries the curve's estimated error. A saved geometry (below) takes precedence.
+  QSize size(1280, 800);
+  if (const QScreen* s = screen())
+    size = size.boundedTo(s->availableGeometry().size() - QSize(0, 48));
+  resize(size);
   // Space is "Run curve" everywhere but in a number box, where it used to go into the text and
   // blank the box: there it does nothing.
   for (QAbstractSpinBox* box : findChildren<QAbstractSpinBox*>()) box->installEventFilter(this);

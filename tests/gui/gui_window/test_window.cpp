@@ -7,26 +7,26 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
-#include <QDoubleSpinBox>
-#include <QLabel>
-#include <QListWidget>
-#include <QMessageBox>
-#include <QProgressBar>
-#include <QPushButton>
-#include <QTimer>
-#include <QMenuBar>
-#include <QDockWidget>
-#include <QTextBrowser>
 #include <QDir>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QFile>
+#include <QLabel>
+#include <QListWidget>
+#include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QScreen>
 #include <QSet>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTextBrowser>
+#include <QTimer>
 
 #include <qcustomplot.h>
 #include <omp.h>
@@ -184,6 +184,15 @@ class WindowTest : public QObject {
     tp::writePly(tissue_.toStdString(), tp::generateMeristem(prm));
 
     w_ = std::make_unique<MainWindow>();
+    // With no geometry saved yet the window fits the screen (1280×800 here) with room for a
+    // title bar, so the status bar, which carries the curve's error, is on it.
+    const QRect screen = w_->screen()->availableGeometry();
+    QVERIFY2(w_->height() <= screen.height() - 48 && w_->width() <= screen.width(),
+             qPrintable(QString("window %1×%2 on a screen of %3×%4")
+                            .arg(w_->width())
+                            .arg(w_->height())
+                            .arg(screen.width())
+                            .arg(screen.height())));
     w_->resize(1280, 800);
     w_->show();
     QVERIFY(QTest::qWaitForWindowExposed(w_.get()));
