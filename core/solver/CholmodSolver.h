@@ -41,8 +41,10 @@ class CholmodSolver {
   static int blasThreadCap();
 
   /// Symbolic analysis of the pattern (upper triangle, CSC). Must precede factorize().
-  /// `node` (optional): for each unknown, its node (vertex), nondecreasing, a node's unknowns
-  /// consecutive; the ordering is then computed on the graph of the nodes.
+  /// `node` (optional): for each unknown, its node (a vertex; ids from 0, a node's unknowns
+  /// anywhere). The fill-reducing ordering is then METIS's on the graph of the nodes, weighted
+  /// by their unknowns, each node's unknowns eliminated together (Model::orderingNodes()).
+  /// Without it, CHOLMOD orders the graph of the unknowns itself.
   void analyze(const SparsePattern& pattern, std::span<const int> node = {});
   bool analyzed() const;
 
