@@ -87,6 +87,9 @@ class SimulationController : public QObject {
   double meanCellSize() const;
   /// Snapshots received since start (for measuring equilibria per second).
   int snapshotCount() const { return snapshotCount_; }
+  /// The worker's thread: tests post work to it that holds the worker while they make requests
+  /// (what the worker does between two calls on this thread otherwise depends on the load).
+  QThread* workerThread() { return &thread_; }
 
  signals:
   void snapshotReady(const tp::gui::Snapshot& snapshot);
