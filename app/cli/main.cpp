@@ -771,6 +771,7 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   auto cc = std::make_shared<const CellComplex>(loadTissue(meshPath));
   plan.tissue = std::filesystem::absolute(meshPath).lexically_normal().string();
   plan.tissueDigest = tissueDigest(*cc);
+  std::vector<MapSite> leftOut;  // on the clamped base
   {
     std::vector<SiteKind> kinds;
     std::stringstream ss(a.sites);
@@ -781,10 +782,22 @@ int runMapCommand(const MapArgs& a, bool sweep) {
       throw UsageError(std::string("--sites: ") + e.what());
     }
     try {
-      plan.sites = mapSites(*cc, kinds, a.gridSpacing.value_or(std::numeric_limits<double>::quiet_NaN()), a.siteList);
+      plan.sites =
+          mapSites(*cc, kinds, a.gridSpacing.value_or(std::numeric_limits<double>::quiet_NaN()),
+                   a.siteList, plan.largestProbeRadius(), &leftOut);
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
+  }
+  if (!leftOut.empty() && !a.model.quiet) {
+    std::string names;
+    for (size_t i = 0; i < leftOut.size() && i < 5; ++i)
+      names += (i ? ", " : "") + leftOut[i].label;
+    if (leftOut.size() > 5) names += ", ...";
+    std::fprintf(stderr,
+                 "%zu site(s) left out: the probe (radius %g um) would reach the clamped base "
+                 "there (%s)\n",
+                 leftOut.size(), plan.largestProbeRadius(), names.c_str());
   }
   if (plan.sites.empty())
     throw UsageError("--sites " + a.sites + ": the tissue has no such site");
@@ -1020,10 +1033,13 @@ int main(int argc, char** argv) {
     auto* f = cmd->add_option("--force", m.model.force, "Force control: final force, uN");
     d->excludes(f);
     cmd->add_option("--steps", m.model.steps, "Loading steps per site")->capture_default_str();
-    cmd->add_option("--sites", m.sites,
-                    "Which sites: cells (the middle of every cell's outer wall), junctions "
-                    "(every anticlinal junction on the surface), grid (a square grid seen from "
-                    "above), list (--site-list); comma-separated for several")
+    cmd->add_option(
+           "--sites", m.sites,
+           "Which sites: cells (the middle of every cell's outer wall), junctions "
+           "(every anticlinal junction on the surface), grid (a square grid seen from "
+           "above), list (--site-list); comma-separated for several. Cells, junctions and grid "
+           "points where the probe would reach the clamped base are left out (said on "
+           "stderr)")
         ->capture_default_str();
     cmd->add_option("--grid-spacing", m.gridSpacing,
                     "Spacing of --sites grid, um (default: the mean cell size)");

@@ -71,7 +71,9 @@ bool MapRunner::start(const MapRequest& request, QString* why) {
       plan.tissue = std::filesystem::absolute(path).lexically_normal().string();
       plan.tissueDigest = tissueDigest(*cc);
       plan.settings = settings;
-      plan.sites = mapSites(*cc, request.kinds, request.gridSpacing, "");
+      std::vector<MapSite> leftOut;  // on the clamped base
+      plan.sites = mapSites(*cc, request.kinds, request.gridSpacing, "",
+                            settings.indentation.probeRadius, &leftOut);
       if (plan.sites.empty()) throw std::runtime_error("the tissue has no such site");
       plan.checkSize();
       const QString folder = request.cacheRoot + "/" + planHash(plan);
@@ -109,6 +111,10 @@ bool MapRunner::start(const MapRequest& request, QString* why) {
                       .arg(s.done + s.skipped);
       else if (s.failed)
         message = tr("%1 site(s) did not converge (left out of the colours).").arg(s.failed);
+      if (!leftOut.empty())
+        message += (message.isEmpty() ? QString() : QString(" ")) +
+                   tr("%1 site(s) left out: the probe would reach the clamped base there.")
+                       .arg(leftOut.size());
       QMetaObject::invokeMethod(
           this, [this, complete, c = s.cancelled, message] { onFinished(complete, c, message); },
           Qt::QueuedConnection);

@@ -56,6 +56,26 @@ bool sameEndValues(const ExperimentSettings& a, const ExperimentSettings& b) {
 
 }  // namespace
 
+std::string clampedMaterialWithin(const CellComplex& cc, const Vec3& point, double radius) {
+  if (cc.fixed.empty()) return {};
+  const Points& X = cc.rest;
+  for (int tri = 0; tri < cc.triangleCount(); ++tri) {
+    if (!cc.isOuterTriangle(tri)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = cc.triangles[tri][k], b = cc.triangles[tri][(k + 1) % 3];
+      if (!cc.fixed[a]) continue;
+      if ((X.col(a) - point).norm() < radius) return "clamped vertex " + std::to_string(a);
+      if (!cc.fixed[b]) continue;
+      const Vec3 e = X.col(b) - X.col(a);
+      const double u =
+          std::clamp((point - X.col(a)).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+      if ((X.col(a) + u * e - point).norm() < radius)
+        return "the clamped edge " + std::to_string(a) + "-" + std::to_string(b);
+    }
+  }
+  return {};
+}
+
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
                                 int level, double grading) {
   if (level < 1) throw std::invalid_argument("siteRefinement: level must be at least 1");
@@ -272,26 +292,12 @@ void Experiment::prepareBase(const Monitor& monitor) {
   // Not on the clamped base: a probe whose contact patch (the probe radius around the site)
   // reaches clamped material (a clamped vertex, or an edge between two) pushes on walls that
   // cannot move.
-  {
-    const Points& X = tissue_->rest;
-    auto refuse = [&](const std::string& what) {
-      std::ostringstream o;
-      o << "the site " << where(restSite_) << " µm is on the clamped base of the tissue (" << what
-        << " is within the probe radius, " << s.probeRadius << " µm)";
-      throw std::invalid_argument(o.str());
-    };
-    for (int tri : baseModel_->topology().outerTriangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = tissue_->triangles[tri][k], b = tissue_->triangles[tri][(k + 1) % 3];
-        if (!tissue_->fixed[a]) continue;
-        if ((X.col(a) - restSite_).norm() < s.probeRadius)
-          refuse("clamped vertex " + std::to_string(a));
-        if (!tissue_->fixed[b]) continue;
-        const Vec3 e = X.col(b) - X.col(a);
-        const double u = std::clamp((restSite_ - X.col(a)).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
-        if ((X.col(a) + u * e - restSite_).norm() < s.probeRadius)
-          refuse("the clamped edge " + std::to_string(a) + "-" + std::to_string(b));
-      }
+  if (const std::string what = clampedMaterialWithin(*tissue_, restSite_, s.probeRadius);
+      !what.empty()) {
+    std::ostringstream o;
+    o << "the site " << where(restSite_) << " µm is on the clamped base of the tissue (" << what
+      << " is within the probe radius, " << s.probeRadius << " µm)";
+    throw std::invalid_argument(o.str());
   }
   // One axis for every level and every E, ν, h and p: the inward normal of the tissue as given
   // (or the one asked for), so that refining, which lets the walls near the site bulge, does

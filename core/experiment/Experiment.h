@@ -50,6 +50,11 @@ struct MeshSettings {
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
                                 int level, double grading);
 
+/// The clamped material of the outer surface (a clamped vertex, or an edge between two) within
+/// `radius` (µm) of `point`, named for a message ("clamped vertex 295"), or empty if there is
+/// none: a probe whose contact patch reaches it pushes on walls that cannot move.
+std::string clampedMaterialWithin(const CellComplex& cc, const Vec3& point, double radius);
+
 struct ExperimentSettings {
   Material material;
   double pressure = 0.8;            // MPa, every cell

@@ -430,7 +430,8 @@ void checkSitesNearSurface(const CellComplex& cc, const std::vector<MapSite>& si
 }
 
 std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>& kinds,
-                              double gridSpacing, const std::string& siteList) {
+                              double gridSpacing, const std::string& siteList, double probeRadius,
+                              std::vector<MapSite>* leftOut) {
   std::vector<MapSite> sites;
   for (SiteKind kind : kinds) {
     std::vector<MapSite> more;
@@ -454,6 +455,12 @@ std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>
         checkSitesNearSurface(cc, more, siteList);
         break;
     }
+    if (kind != SiteKind::Listed && std::isfinite(probeRadius))
+      std::erase_if(more, [&](const MapSite& site) {
+        if (clampedMaterialWithin(cc, site.point, probeRadius).empty()) return false;
+        if (leftOut) leftOut->push_back(site);
+        return true;
+      });
     sites.insert(sites.end(), more.begin(), more.end());
   }
   return sites;
@@ -534,6 +541,14 @@ void MapPlan::checkSize() const {
   if (n > kMaxTasks)
     throw std::invalid_argument("the plan has " + shortNumber(n) + " tasks (sites x parameter sets), " +
                                 "more than " + shortNumber(kMaxTasks) + ": vary fewer values or sites");
+}
+
+double MapPlan::largestProbeRadius() const {
+  double r = settings.indentation.probeRadius;
+  for (const Variation& v : vary)
+    if (v.name == "probe-radius")
+      for (double x : v.values) r = std::max(r, x);
+  return r;
 }
 
 int MapPlan::parameterSets() const {

@@ -61,10 +61,17 @@ std::vector<MapSite> readSiteList(const std::string& path);
 
 /// The sites of several kinds, in the order given: `gridSpacing` (µm, NaN: the mean cell size)
 /// for a grid, `siteList` (a file, see readSiteList) for a list, which must lie near the surface
-/// (checkSitesNearSurface). Throws std::invalid_argument naming the option ("--grid-spacing",
-/// "--site-list") and the problem; std::runtime_error for a bad list file.
+/// (checkSitesNearSurface). Sites the program chose (cells, junctions, grid) whose contact patch
+/// would reach the clamped base — clamped material within `probeRadius` (µm; NaN: none left
+/// out), clampedMaterialWithin — are left out, into *leftOut if given: no probe can indent
+/// them, and on a real tissue (the flower of ../shared/data) every map would otherwise end with
+/// failed sites. Listed sites are the user's own and are kept (their tasks fail, saying why).
+/// Throws std::invalid_argument naming the option ("--grid-spacing", "--site-list") and the
+/// problem; std::runtime_error for a bad list file.
 std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>& kinds,
-                              double gridSpacing, const std::string& siteList);
+                              double gridSpacing, const std::string& siteList,
+                              double probeRadius = std::numeric_limits<double>::quiet_NaN(),
+                              std::vector<MapSite>* leftOut = nullptr);
 
 /// Throws std::invalid_argument naming `source`, the site's label and its distance when a site is
 /// farther than the mean cell size from the free outer surface of the rest tissue.
@@ -96,6 +103,8 @@ struct MapPlan {
   /// Throws std::invalid_argument when sites × parameter sets exceeds kMaxTasks.
   void checkSize() const;
   int parameterSets() const;
+  /// The largest probe radius of its tasks (µm): the settings' or a varied probe-radius's.
+  double largestProbeRadius() const;
   int taskCount() const { return parameterSets() * static_cast<int>(sites.size()); }
   const MapSite& site(int task) const;
   std::vector<double> values(int task) const;   // the varied values of the task, in vary order

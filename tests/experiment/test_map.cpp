@@ -8,15 +8,20 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
+#include "experiment/Experiment.h"
 #include "experiment/Map.h"
+#include "io/Centroids.h"
 #include "io/TextFile.h"
 #include "solver/CholmodSolver.h"
 #include "solver/OpenMpRegions.h"
+#include "support/SharedData.h"
 #include "support/SmallMeristem.h"
 #include "tissue/Meristem.h"
+#include "tissue/RealTissue.h"
 #include "tissue/Shapes.h"
 
 using namespace tp;
@@ -124,6 +129,78 @@ TEST(MapSites, OnAMeristemEverySiteIsOnTheOuterSurface) {
   EXPECT_GT(grid.size(), 30u);
   for (const auto* list : {&cells, &junctions, &grid})
     for (const auto& s : *list) EXPECT_LT(distanceToOuterSurface(*cc, s.point), 1e-9) << s.label;
+}
+
+// The sites the program chooses leave out those where the probe would reach the clamped base,
+// which the experiment refuses: on the real flower (../shared/data) a map of its cell middles
+// ended with such a site failed (cell 66, clamped vertex 295 within the 1 µm probe radius).
+// Listed sites are the user's: kept, to fail saying why.
+TEST(MapSites, SitesWhereTheProbeWouldReachTheClampedBaseAreLeftOut) {
+  const CellComplex flower =
+      tissueFromCentroids(readCentroids(test::sharedDataFile("refahi2021_flower_stage4/cells.csv")),
+                          RealTissueOptions{});
+  const std::vector<MapSite> all = cellMiddleSites(flower);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(mapSites(flower, {SiteKind::CellMiddle}, nan, "").size(), all.size());
+  for (const double radius : {1.0, 3.0}) {
+    std::vector<MapSite> out;
+    const std::vector<MapSite> kept =
+        mapSites(flower, {SiteKind::CellMiddle}, nan, "", radius, &out);
+    EXPECT_EQ(kept.size() + out.size(), all.size()) << radius;
+    EXPECT_GE(out.size(), 1u) << radius;
+    EXPECT_LT(out.size(), all.size() / 5) << radius;  // the rim, not the flower
+    for (const MapSite& site : out)
+      EXPECT_FALSE(clampedMaterialWithin(flower, site.point, radius).empty()) << site.label;
+    for (const MapSite& site : kept)
+      EXPECT_TRUE(clampedMaterialWithin(flower, site.point, radius).empty()) << site.label;
+    // In the order of all the sites, each either kept or left out.
+    size_t k = 0, o = 0;
+    for (const MapSite& site : all) {
+      if (k < kept.size() && kept[k].label == site.label)
+        ++k;
+      else if (o < out.size() && out[o].label == site.label)
+        ++o;
+    }
+    EXPECT_EQ(k, kept.size());
+    EXPECT_EQ(o, out.size());
+    if (radius == 1.0) {
+      bool cell66 = false;
+      for (const MapSite& site : out) cell66 |= site.label == "cell 66";
+      EXPECT_TRUE(cell66);
+      // A list naming such a site keeps it.
+      const std::string list = testing::TempDir() + "/map_base_site.txt";
+      std::ostringstream line;
+      line.precision(17);
+      line << out[0].point.x() << "," << out[0].point.y() << "," << out[0].point.z() << "\n";
+      writeText(list, line.str());
+      std::vector<MapSite> none;
+      EXPECT_EQ(mapSites(flower, {SiteKind::Listed}, nan, list, radius, &none).size(), 1u);
+      EXPECT_TRUE(none.empty());
+    }
+  }
+  // The experiment refuses a left-out site for the same reason (the small meristem: its base
+  // rest state is quick to solve).
+  const auto cc = smallMeristem();
+  std::vector<MapSite> out;
+  double radius = 1.0;  // the smallest whole radius that leaves out a site (its stem is 4 µm)
+  for (; out.empty() && radius <= 8; radius += 1)
+    mapSites(*cc, {SiteKind::CellMiddle, SiteKind::Junction}, nan, "", radius, &out);
+  radius -= 1;
+  ASSERT_FALSE(out.empty());
+  ExperimentSettings s;
+  s.indentation.probeRadius = radius;
+  s.indentation.restSite = out.front().point;
+  Experiment e(cc, s);
+  try {
+    e.prepareBase();
+    FAIL() << "a site on the clamped base was accepted";
+  } catch (const std::invalid_argument& err) {
+    EXPECT_NE(std::string(err.what())
+                  .find("is on the clamped base of the tissue (" +
+                        clampedMaterialWithin(*cc, out.front().point, radius)),
+              std::string::npos)
+        << err.what();
+  }
 }
 
 TEST(MapSites, AListIsReadWithItsHeaderAndRefusedByLine) {
