@@ -132,8 +132,14 @@ MapPanel::MapPanel(MapRunner* runner, SimulationController* controller, QWidget*
   connect(runner_, &MapRunner::started, this, [this](int tasks, int before) {
     progress_->setRange(0, tasks);
     progress_->setValue(before);
-    status_->setText(before ? tr("%1 of %2 sites were done before; going on…").arg(before).arg(tasks)
-                            : tr("%1 sites to map…").arg(tasks));
+    const int out = runner_->sitesLeftOut();
+    const QString leftOut =
+        out ? " " + tr("(%1 left out: the probe would reach the clamped base there)").arg(out)
+            : QString();
+    status_->setText(
+        before
+            ? tr("%1 of %2 sites%3 were done before; going on…").arg(before).arg(tasks).arg(leftOut)
+            : tr("%1 sites to map%2…").arg(tasks).arg(leftOut));
     updateState();
   });
   connect(runner_, &MapRunner::progress, this,

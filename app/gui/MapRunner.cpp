@@ -84,7 +84,10 @@ bool MapRunner::start(const MapRequest& request, QString* why) {
       int before = 0;
       for (const TaskResult& r : map.results) before += r.task >= 0;
       QMetaObject::invokeMethod(
-          this, [this, map, before, folder] { onPlanned(map, before, folder); },
+          this,
+          [this, map, before, folder, n = static_cast<int>(leftOut.size())] {
+            onPlanned(map, before, folder, n);
+          },
           Qt::QueuedConnection);
       MapRunOptions options;
       options.outDir = folder.toStdString();
@@ -136,9 +139,11 @@ int MapRunner::sitesDone() const {
   return n;
 }
 
-void MapRunner::onPlanned(const SessionMap& map, int alreadyDone, const QString& folder) {
+void MapRunner::onPlanned(const SessionMap& map, int alreadyDone, const QString& folder,
+                          int leftOut) {
   map_ = map;
   folder_ = folder;
+  leftOut_ = leftOut;
   rebuildField();
   emit started(map.plan.taskCount(), alreadyDone);
   emit mapChanged();

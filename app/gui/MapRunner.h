@@ -54,6 +54,9 @@ class MapRunner : public QObject {
   /// The folder of the running (or last) map's results.
   const QString& folder() const { return folder_; }
   int sitesDone() const;
+  /// Of the sites asked for, those the running (or last) map left out: the probe would reach
+  /// the clamped base there (mapSites).
+  int sitesLeftOut() const { return leftOut_; }
   /// A map from a session (replaces the one shown; refused while a map runs).
   bool setMap(SessionMap map);
   /// The tissue the window shows (its file and mean cell size, µm): the map is drawn (field())
@@ -79,7 +82,7 @@ class MapRunner : public QObject {
   void finished(bool complete, bool cancelled, const QString& message);
 
  private:
-  void onPlanned(const SessionMap& map, int alreadyDone, const QString& folder);
+  void onPlanned(const SessionMap& map, int alreadyDone, const QString& folder, int leftOut);
   void onTask(const TaskResult& r);
   void onFinished(bool complete, bool cancelled, const QString& message);
   void rebuildField();
@@ -90,6 +93,7 @@ class MapRunner : public QObject {
   std::optional<SessionMap> map_;
   std::shared_ptr<const MapField> field_;
   QString folder_;
+  int leftOut_ = 0;
   double cellSize_ = std::numeric_limits<double>::infinity();  // of the tissue shown, µm
   std::string tissue_;        // the tissue shown, absolute ("" before one is)
   bool otherTissue_ = false;
