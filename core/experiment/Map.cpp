@@ -455,13 +455,14 @@ std::vector<MapSite> mapSites(const CellComplex& cc, const std::vector<SiteKind>
         checkSitesNearSurface(cc, more, siteList);
         break;
     }
-    if (kind != SiteKind::Listed && std::isfinite(probeRadius))
-      std::erase_if(more, [&](const MapSite& site) {
-        if (clampedMaterialWithin(cc, site.point, probeRadius).empty()) return false;
-        if (leftOut) leftOut->push_back(site);
-        return true;
-      });
-    sites.insert(sites.end(), more.begin(), more.end());
+    for (MapSite& site : more) {
+      const bool onBase = kind != SiteKind::Listed && std::isfinite(probeRadius) &&
+                          !clampedMaterialWithin(cc, site.point, probeRadius).empty();
+      if (!onBase)
+        sites.push_back(std::move(site));
+      else if (leftOut)
+        leftOut->push_back(std::move(site));
+    }
   }
   return sites;
 }
