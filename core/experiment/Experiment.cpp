@@ -603,6 +603,9 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
       result.message = "cancelled while estimating the mesh error";
       return result;
     } catch (const std::invalid_argument& e) {  // the next level is larger than we solve
+      result.error = MeshError{};
+      result.error.values = {{level, value}};
+      result.error.method = std::string("not estimated: ") + e.what();
       result.message = std::string("the mesh error could not be estimated: ") + e.what();
       return result;
     }
