@@ -82,7 +82,11 @@ struct MeshError {
 /// mesh near the site, and the hinge bending model converges at about first order on graded
 /// meshes (p ≈ 1.2 measured, tests/experiment), so first order is assumed: the remaining error
 /// is at most 2 |F_L − F_{L+1}|, reported with Roache's safety factor 1.25 (Roache 1994, the
-/// grid convergence index with p = 1).
+/// grid convergence index with p = 1), a bound while each difference is at most 0.6 of the
+/// one before. Koiter bending (the default) in a tissue does not keep to that everywhere: from
+/// level 4 to 6 its differences were 0.72–0.84 of the one before at two meristem sites
+/// (bench/README.md, fifteenth session of 2026-12-06); level 3's estimates still covered
+/// level 6 there.
 MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue);
 
 /// The error of `value` at `level` from the end value at the next coarser level, under the same
