@@ -162,6 +162,14 @@ MeshError errorFromPair(int level, double value, int other, double otherValue, d
   return e;
 }
 
+// The error of `value` at `level` left unestimated, saying why.
+MeshError notEstimated(int level, double value, const std::string& why) {
+  MeshError e;
+  e.values = {{level, value}};
+  e.method = "not estimated: " + why;
+  return e;
+}
+
 }  // namespace
 
 MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue) {
@@ -480,10 +488,7 @@ MeshError Experiment::estimateError(int level, double value, const Monitor& moni
   try {
     return estimateMeshError(level, value, level + 1, endValue(level + 1, monitor, seed));
   } catch (const SolveFailure& e) {
-    MeshError none;
-    none.values = {{level, value}};
-    none.method = std::string("not estimated: ") + e.what();
-    return none;
+    return notEstimated(level, value, e.what());
   }
 }
 
@@ -603,9 +608,7 @@ ExperimentResult Experiment::run(const Monitor& monitor) {
       result.message = "cancelled while estimating the mesh error";
       return result;
     } catch (const std::invalid_argument& e) {  // the next level is larger than we solve
-      result.error = MeshError{};
-      result.error.values = {{level, value}};
-      result.error.method = std::string("not estimated: ") + e.what();
+      result.error = notEstimated(level, value, e.what());
       result.message = std::string("the mesh error could not be estimated: ") + e.what();
       return result;
     }
