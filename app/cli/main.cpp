@@ -160,6 +160,7 @@ struct IndentArgs {
   bool noPredictor = false;
   std::string refine = "auto";
   double meshTolerance = MeshSettings{}.tolerance;
+  bool junctionBand = MeshSettings{}.junctionBand;
   std::string csv, vtu;
   double tolerance = 1e-8;
   std::string solver = "newton";
@@ -206,6 +207,7 @@ ExperimentSettings experimentSettings(const IndentArgs& a) {
     }
   }
   x.mesh.tolerance = a.meshTolerance;
+  x.mesh.junctionBand = a.junctionBand;
   x.solver.kind = parseSolverKind(a.solver);
   if (x.solver.kind == SolverKind::ImplicitEulerCG && a.force)
     throw UsageError("--solver implicit-euler-cg supports --depth only");
@@ -310,7 +312,8 @@ int runIndent(const IndentArgs& a) {
     m << "mesh level " << site.level << (settings.mesh.automatic ? " (auto, tolerance " : " (fixed")
       << (settings.mesh.automatic ? std::to_string(settings.mesh.tolerance) + ")" : ")") << ": "
       << site.complex->vertexCount() << " vertices, " << site.complex->triangleCount()
-      << " triangles, smallest angle " << site.refinement.minAngleDeg << " deg";
+      << " triangles, smallest angle " << site.refinement.minAngleDeg << " deg"
+      << (settings.mesh.junctionBand ? ", junction band" : "");
     comments.push_back(m.str());
     comments.push_back(describeError(r.error, settings));
     std::ostringstream w;
@@ -926,6 +929,10 @@ void addModelOptions(CLI::App* cmd, IndentArgs& a) {
                   "Relative discretisation error asked of --refine auto (of the force at the "
                   "deepest point, or the depth at the largest force)")
       ->capture_default_str();
+  cmd->add_flag("--junction-band", a.junctionBand,
+                "Also refine a band along the junctions of the walls around the site to the "
+                "width of their bending layer under turgor, sqrt(D/N) (slower; for checking a "
+                "result's sensitivity to the junctions' layers)");
   cmd->add_flag("--quiet", a.quiet, "Print nothing but errors");
 }
 

@@ -35,6 +35,11 @@ struct MeshSettings {
   bool estimateError = true;  // estimate the error of a fixed level too (costs a finer run)
   int maxLevel = 6;
   double grading = 1.5;       // the target edge grows by 1/grading per µm away from the site
+  // Refine a band along the junctions of the walls around the site to the width of the bending
+  // layer under turgor (siteRefinement, junctionLayerWidth). Off by default: it makes Koiter's
+  // level-to-level differences shrink regularly, but costs ~3.5× per level and is not yet the
+  // family the default's error estimate is checked on (bench/README.md, sixteenth session).
+  bool junctionBand = false;
   // An unseeded refined rest state under turgor starts with the vertices the refinement added
   // relaxed, the tissue's own held (Experiment::relaxAddedVertices).
   bool relaxAddedVertices = true;
@@ -44,11 +49,17 @@ struct MeshSettings {
 /// edges of R·2^(1−L) (R the probe radius) within R of it (the contact patch up to depths of
 /// R/2), growing by 2^(3−L)/grading per µm beyond, on the whole of every wall reaching within
 /// one cell size (at least 4 R) of that radius, whose edges are also at most 0.35 cell sizes ×
-/// 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue. Each
-/// level halves the target size everywhere in that zone; the walls beyond keep the tissue's own
-/// triangles.
+/// 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue; within
+/// the band of that width along their junctions within the zone's radius, at most
+/// 2·junctionLayer·2^(3−L) (when junctionLayer > 0). Each level halves the target size
+/// everywhere in that zone; the walls beyond keep the tissue's own triangles.
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
-                                int level, double grading);
+                                int level, double grading, double junctionLayer = 0);
+
+/// The width ℓ = √(D/N) (µm) of the boundary layer in which a wall under turgor bends next to a
+/// junction, N = p·cellSize/4 the tension of a turgid cell of that diameter; 0 without turgor or
+/// bending. siteRefinement's band along the junctions is a multiple of it.
+double junctionLayerWidth(const Material& material, double pressure, double cellSize);
 
 /// The clamped material of the outer surface (a clamped vertex, or an edge between two) within
 /// `radius` (µm) of `point`, named for a message ("clamped vertex 295"), or empty if there is
@@ -86,7 +97,9 @@ struct MeshError {
 /// one before. Koiter bending (the default) in a tissue does not keep to that everywhere: from
 /// level 4 to 6 its differences were 0.72–0.84 of the one before at two meristem sites
 /// (bench/README.md, fifteenth session of 2026-12-06); level 3's estimates still covered
-/// level 6 there.
+/// level 6 there. The cause is the walls' bending layer along the junctions under turgor, ~0.3
+/// µm wide, which the family resolves only at level 6; with MeshSettings::junctionBand the
+/// differences shrink by 0.57 or less from level 2 on (sixteenth session).
 MeshError estimateMeshError(int level, double value, int finerLevel, double finerValue);
 
 /// The error of `value` at `level` from the end value at the next coarser level, under the same

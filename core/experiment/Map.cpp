@@ -128,6 +128,7 @@ json settingsToJson(const ExperimentSettings& s) {
   j["predictor"] = i.predictor;
   j["mesh"] = s.mesh.automatic ? json("auto") : json(s.mesh.level);
   j["mesh_tolerance"] = s.mesh.tolerance;
+  if (s.mesh.junctionBand) j["junction_band"] = true;  // absent when off: older plans still match
   j["newton_tolerance"] = s.solver.tolerance;
   return j;
 }

@@ -253,6 +253,14 @@ CellComplex refineNear(const CellComplex& cc, const Vec3& center, double radius,
 
 namespace tp {
 
+// Distance from x to the segment pq (µm).
+static double segmentDistance(const Vec3& x, const Vec3& p, const Vec3& q) {
+  const Vec3 d = q - p;
+  const double l2 = d.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((x - p).dot(d) / l2, 0.0, 1.0) : 0.0;
+  return (x - (p + t * d)).norm();
+}
+
 double GradedRefinement::targetSize(double distance) const {
   return std::max(finest, finest + (distance - innerRadius) / grading);
 }
@@ -260,7 +268,7 @@ double GradedRefinement::targetSize(double distance) const {
 RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec) {
   if (!(spec.finest > 0) || !(spec.grading > 0) || !(spec.innerRadius >= 0) ||
       !(spec.outerRadius >= 0) || !spec.center.allFinite() || !(spec.panelSize >= 0) ||
-      !(spec.panelFraction >= 0))
+      !(spec.panelFraction >= 0) || !(spec.junctionSize >= 0))
     throw std::invalid_argument("graded refinement needs a finite centre, a positive finest size "
                                 "and grading, and non-negative radii");
   // The zone: every wall with a triangle within the outer radius, refined whole.
@@ -285,6 +293,31 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
     const double cap = spec.panelFraction * std::sqrt(longestBase2);
     if (cap > 0) panel = panel > 0 ? std::min(panel, cap) : cap;
   }
+  // The band along the junctions: for every wall of the zone, its edges shared with two or more
+  // other walls that come within the outer radius (rest positions; refinement keeps them edges).
+  std::vector<std::vector<std::pair<Vec3, Vec3>>> junctions(cc.wallCount());
+  if (spec.junctionSize > 0) {
+    std::map<EdgeKey, std::vector<int>> edgeWalls;
+    for (int t = 0; t < cc.triangleCount(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        auto& w = edgeWalls[key(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])];
+        if (std::find(w.begin(), w.end(), cc.triangleWall[t]) == w.end())
+          w.push_back(cc.triangleWall[t]);
+      }
+    for (const auto& [e, walls] : edgeWalls) {
+      if (walls.size() < 3) continue;
+      const Vec3 p = cc.rest.col(e.first), q = cc.rest.col(e.second);
+      if (segmentDistance(spec.center, p, q) > spec.outerRadius) continue;
+      for (int w : walls)
+        if (zone[w]) junctions[w].emplace_back(p, q);
+    }
+  }
+  const auto nearJunction = [&](const Vec3& a, const Vec3& b, const Vec3& c, int wall) {
+    for (const auto& [p, q] : junctions[wall])
+      for (const Vec3* x : {&a, &b, &c})
+        if (segmentDistance(*x, p, q) < spec.junctionSize) return true;
+    return false;
+  };
   Refiner r(cc);
   int passes = 0;
   for (; passes < spec.maxPasses; ++passes) {
@@ -295,6 +328,9 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
           std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
       double target = spec.targetSize(std::sqrt(d2));
       if (panel > 0) target = std::min(target, panel);
+      if (spec.junctionSize > 0 && spec.junctionSize < target && d2 <= outer2 &&
+          nearJunction(a, b, c, wall))
+        target = spec.junctionSize;
       return longest > target * target;
     });
     if (marked == 0) break;

@@ -37,6 +37,10 @@ struct GradedRefinement {
   double panelSize = 0;      // µm: longest edge anywhere on those walls (0: no such cap)
   double panelFraction = 0;  // longest edge on those walls at most this fraction of the longest
                              // edge they have in the base (0: no such cap)
+  double junctionSize = 0;   // µm: longest edge of the triangles of those walls within
+                             // outerRadius of the centre with a corner within junctionSize of
+                             // one of their junction edges (edges shared by three or more
+                             // walls) (0: no such band)
   int maxPasses = 16;
   double targetSize(double distance) const;
 };

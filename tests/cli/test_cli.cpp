@@ -214,6 +214,36 @@ TEST(Cli, RefinementAtTheSite) {
   EXPECT_THAT(bad.output, HasSubstr("--refine: expected auto or a level"));
 }
 
+// --junction-band refines a band along the junctions by the site besides the level's sizes:
+// the same level has more vertices, says so in its header, and the force moves by less than the
+// level's own estimated error (a finer mesh of the same tissue, not another model).
+TEST(Cli, JunctionBandRefinesAlongTheJunctionsAndSaysSo) {
+  const std::string base = "indent --mesh " + smallTissue() + " --depth 0.2 --steps 2 --refine 2";
+  const CliRun plain = cli(base), band = cli(base + " --junction-band");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  ASSERT_EQ(band.status, 0) << band.output;
+  EXPECT_THAT(band.output, HasSubstr("triangles, smallest angle"));
+  EXPECT_THAT(band.output, HasSubstr("deg, junction band"));
+  EXPECT_THAT(plain.output, Not(HasSubstr("junction band")));
+  const auto vertices = [](const std::string& out) {
+    const auto at = out.find("# mesh level 2 (fixed): ");
+    return at == std::string::npos ? -1 : std::stoi(out.substr(at + 24));
+  };
+  const auto endForce = [](const std::string& out) {
+    const auto at = out.find("\n   0.20000 ");
+    return at == std::string::npos ? NAN : std::stod(out.substr(at + 12));
+  };
+  const auto error = [](const std::string& out) {
+    const auto at = out.find("estimated discretisation error +-");
+    return at == std::string::npos ? NAN : std::stod(out.substr(at + 33)) / 100;
+  };
+  EXPECT_GT(vertices(band.output), vertices(plain.output) * 11 / 10) << plain.output << band.output;
+  const double fPlain = endForce(plain.output), fBand = endForce(band.output);
+  ASSERT_TRUE(std::isfinite(fPlain) && std::isfinite(fBand)) << plain.output << band.output;
+  EXPECT_NE(fPlain, fBand);
+  EXPECT_LE(std::abs(fBand - fPlain), error(plain.output) * std::abs(fPlain));
+}
+
 TEST(Cli, BadInputIsNamed) {
   CliRun r = cli("indent --mesh " + smallTissue() + " --site 1,2");
   EXPECT_EQ(r.status, 2);

@@ -88,6 +88,34 @@ TEST(Experiment, SettingsOutOfRangeAreRefusedNamingTheRange) {
   refused([](ExperimentSettings& s) { s.indentation.axis = Vec3::Zero(); }, "the probe axis");
 }
 
+// The junction band of siteRefinement follows the bending boundary layer ℓ = √(D/N): none
+// without turgor or bending; ℓ ∝ √(E h³ / p) (D ∝ E h³, N ∝ p); the band's edges halve with
+// every level like every other size of the zone.
+TEST(Experiment, TheJunctionBandFollowsTheBendingLayer) {
+  Material m;
+  const double cell = 5.0, l = junctionLayerWidth(m, 0.8, cell);
+  EXPECT_GT(l, 0.2);  // the default walls: a layer of ~0.3 µm, less than a twentieth of a cell
+  EXPECT_LT(l, 0.4);
+  EXPECT_EQ(junctionLayerWidth(m, 0.0, cell), 0.0);
+  EXPECT_NEAR(junctionLayerWidth(m, 3.2, cell), l / 2, 1e-12 * l);
+  Material stiff = m;
+  stiff.youngModulus *= 4;
+  EXPECT_NEAR(junctionLayerWidth(stiff, 0.8, cell), 2 * l, 1e-12 * l);
+  Material thick = m;
+  thick.thickness *= 4;
+  EXPECT_NEAR(junctionLayerWidth(thick, 0.8, cell), 8 * l, 1e-12 * l);
+  Material flat = m;
+  flat.bending = BendingModel::None;
+  EXPECT_EQ(junctionLayerWidth(flat, 0.8, cell), 0.0);
+  for (int level = 1; level <= 6; ++level) {
+    const GradedRefinement a = siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, l);
+    const GradedRefinement b = siteRefinement(Vec3::Zero(), 1.0, cell, level + 1, 4.0, l);
+    EXPECT_NEAR(b.junctionSize, a.junctionSize / 2, 1e-12);
+    EXPECT_NEAR(b.finest, a.finest / 2, 1e-12);
+    EXPECT_EQ(siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, 0.0).junctionSize, 0.0);
+  }
+}
+
 TEST(Experiment, TheDefaultSiteAndAxisAreTheSameWhateverTheParameters) {
   // Without a site the probe goes in at the top of the tissue as given, along its inward normal
   // there: the same material point and line at any E and p, so that a curve made at some values

@@ -250,6 +250,60 @@ TEST(GradedRefinement, MeetsTheTargetSizeConformingAndGraded) {
               r.report.minAngleDeg, q0.minAngleDeg);
 }
 
+// The band along the junctions (siteRefinement's, for the bending boundary layer under turgor):
+// every triangle of the zone with a corner on an edge shared by three or more walls within the
+// outer radius is at most junctionSize long; the walls' middles keep the
+// coarser target, and nothing outside the outer radius is refined for the band.
+TEST(GradedRefinement, BandAlongTheJunctionsNearTheCentre) {
+  const CellComplex base = generateMeristem(MeristemParams{});
+  GradedRefinement g;
+  g.center = Vec3(0, 0, 41.5);
+  g.finest = 0.25;
+  g.innerRadius = 1.0;
+  g.grading = 1.5;
+  g.outerRadius = 8.0;
+  const RefinedComplex plain = refineGraded(base, g);
+  g.junctionSize = 0.3;
+  const RefinedComplex r = refineGraded(base, g);
+  const CellComplex& cc = r.complex;
+  const ValidityReport v = checkValidity(cc);
+  ASSERT_TRUE(v.ok()) << v.summary();
+  // Junction edges of the refined tissue (they lie on the base's: bisection keeps them edges).
+  std::map<std::pair<int, int>, std::vector<int>> walls;
+  for (int t = 0; t < cc.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      auto& w = walls[std::minmax(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])];
+      if (std::find(w.begin(), w.end(), cc.triangleWall[t]) == w.end())
+        w.push_back(cc.triangleWall[t]);
+    }
+  std::vector<char> onJunction(cc.vertexCount(), 0);
+  for (const auto& [e, w] : walls)
+    if (w.size() >= 3) onJunction[e.first] = onJunction[e.second] = 1;
+  int inBand = 0, middlesCoarser = 0, bandBeyond = 0;
+  for (int t = 0; t < cc.triangleCount(); ++t) {
+    const double d = distanceToTriangle(cc, t, g.center);
+    bool touches = false, touchesWithin = false;
+    for (int k = 0; k < 3; ++k) {
+      const int i = cc.triangles[t][k];
+      touches |= onJunction[i] != 0;
+      touchesWithin |= onJunction[i] && (cc.rest.col(i) - g.center).norm() <= g.outerRadius;
+    }
+    if (d <= g.outerRadius && touchesWithin && g.targetSize(d) > g.junctionSize) {
+      ++inBand;
+      EXPECT_LE(longestEdge(cc, t), g.junctionSize * (1 + 1e-12)) << "triangle " << t;
+    }
+    if (d <= g.outerRadius && !touches && longestEdge(cc, t) > 2 * g.junctionSize) ++middlesCoarser;
+    if (d > g.outerRadius + 1.0 && touches && longestEdge(cc, t) <= g.junctionSize) ++bandBeyond;
+  }
+  EXPECT_GT(inBand, 100);
+  EXPECT_GT(middlesCoarser, 100);  // a band, not the whole zone at the band's size
+  // Beyond the radius the band's triangles are only the closure's few (one level per edge).
+  EXPECT_LT(bandBeyond, inBand / 10);
+  EXPECT_GT(cc.vertexCount(), plain.complex.vertexCount());
+  std::printf("  junction band: %d vertices against %d without, %d band triangles\n",
+              cc.vertexCount(), plain.complex.vertexCount(), inBand);
+}
+
 TEST(GradedRefinement, ProlongationAndTransferAreExactForAffineFields) {
   const CellComplex base = smallMeristem();
   GradedRefinement g;
