@@ -183,17 +183,23 @@ double distanceToTriangle(const CellComplex& cc, int t, const Vec3& p) {
                                           cc.rest.col(tri[2]), nullptr, nullptr, nullptr));
 }
 
-}  // namespace
-
-TEST(GradedRefinement, MeetsTheTargetSizeConformingAndGraded) {
-  const CellComplex base = generateMeristem(MeristemParams{});
-  const MeshQuality q0 = measureQuality(base);
+// A refinement at the top of the generated meristem: 0.25 µm under a 1 µm probe, graded out.
+GradedRefinement atTheTop() {
   GradedRefinement g;
   g.center = Vec3(0, 0, 41.5);
   g.finest = 0.25;
   g.innerRadius = 1.0;
   g.grading = 1.5;
   g.outerRadius = 8.0;
+  return g;
+}
+
+}  // namespace
+
+TEST(GradedRefinement, MeetsTheTargetSizeConformingAndGraded) {
+  const CellComplex base = generateMeristem(MeristemParams{});
+  const MeshQuality q0 = measureQuality(base);
+  const GradedRefinement g = atTheTop();
   const RefinedComplex r = refineGraded(base, g);
   const CellComplex& cc = r.complex;
   const ValidityReport v = checkValidity(cc);  // a hanging node would leave a cell open
@@ -256,12 +262,7 @@ TEST(GradedRefinement, MeetsTheTargetSizeConformingAndGraded) {
 // coarser target, and nothing outside the outer radius is refined for the band.
 TEST(GradedRefinement, BandAlongTheJunctionsNearTheCentre) {
   const CellComplex base = generateMeristem(MeristemParams{});
-  GradedRefinement g;
-  g.center = Vec3(0, 0, 41.5);
-  g.finest = 0.25;
-  g.innerRadius = 1.0;
-  g.grading = 1.5;
-  g.outerRadius = 8.0;
+  GradedRefinement g = atTheTop();
   const RefinedComplex plain = refineGraded(base, g);
   g.junctionSize = 0.3;
   const RefinedComplex r = refineGraded(base, g);
