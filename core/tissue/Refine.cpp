@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "mechanics/Contact.h"
+#include "mesh/Topology.h"
 
 namespace tp {
 
@@ -297,16 +298,14 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
   // other walls that come within the outer radius (rest positions; refinement keeps them edges).
   std::vector<std::vector<std::pair<Vec3, Vec3>>> junctions(cc.wallCount());
   if (spec.junctionSize > 0) {
-    std::map<EdgeKey, std::vector<int>> edgeWalls;
-    for (int t = 0; t < cc.triangleCount(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        auto& w = edgeWalls[key(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])];
-        if (std::find(w.begin(), w.end(), cc.triangleWall[t]) == w.end())
-          w.push_back(cc.triangleWall[t]);
-      }
-    for (const auto& [e, walls] : edgeWalls) {
+    const Topology topo = buildTopology(cc);
+    for (size_t e = 0; e < topo.edges.size(); ++e) {
+      std::vector<int> walls;
+      for (int t : topo.edgeTriangles[e])
+        if (std::find(walls.begin(), walls.end(), cc.triangleWall[t]) == walls.end())
+          walls.push_back(cc.triangleWall[t]);
       if (walls.size() < 3) continue;
-      const Vec3 p = cc.rest.col(e.first), q = cc.rest.col(e.second);
+      const Vec3 p = cc.rest.col(topo.edges[e][0]), q = cc.rest.col(topo.edges[e][1]);
       if (segmentDistance(spec.center, p, q) > spec.outerRadius) continue;
       for (int w : walls)
         if (zone[w]) junctions[w].emplace_back(p, q);
