@@ -269,7 +269,7 @@ double GradedRefinement::targetSize(double distance) const {
 RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec) {
   if (!(spec.finest > 0) || !(spec.grading > 0) || !(spec.innerRadius >= 0) ||
       !(spec.outerRadius >= 0) || !spec.center.allFinite() || !(spec.panelSize >= 0) ||
-      !(spec.panelFraction >= 0) || !(spec.junctionSize >= 0))
+      !(spec.panelFraction >= 0) || !(spec.junctionSize >= 0) || !(spec.junctionRadius >= 0))
     throw std::invalid_argument("graded refinement needs a finite centre, a positive finest size "
                                 "and grading, and non-negative radii");
   // The zone: every wall with a triangle within the outer radius, refined whole.
@@ -295,8 +295,10 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
     if (cap > 0) panel = panel > 0 ? std::min(panel, cap) : cap;
   }
   // The band along the junctions: for every wall of the zone, its edges shared with two or more
-  // other walls that come within the outer radius (rest positions; refinement keeps them edges).
+  // other walls that come within the band's radius (rest positions; refinement keeps them edges).
   std::vector<std::vector<std::pair<Vec3, Vec3>>> junctions(cc.wallCount());
+  const double bandRadius =
+      spec.junctionRadius > 0 ? std::min(spec.junctionRadius, spec.outerRadius) : spec.outerRadius;
   if (spec.junctionSize > 0) {
     const Topology topo = buildTopology(cc);
     for (size_t e = 0; e < topo.edges.size(); ++e) {
@@ -306,7 +308,7 @@ RefinedComplex refineGraded(const CellComplex& cc, const GradedRefinement& spec)
           walls.push_back(cc.triangleWall[t]);
       if (walls.size() < 3) continue;
       const Vec3 p = cc.rest.col(topo.edges[e][0]), q = cc.rest.col(topo.edges[e][1]);
-      if (segmentDistance(spec.center, p, q) > spec.outerRadius) continue;
+      if (segmentDistance(spec.center, p, q) > bandRadius) continue;
       for (int w : walls)
         if (zone[w]) junctions[w].emplace_back(p, q);
     }

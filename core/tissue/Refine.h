@@ -40,7 +40,9 @@ struct GradedRefinement {
   double junctionSize = 0;   // µm: longest edge of the triangles of those walls within
                              // outerRadius of the centre with a corner within junctionSize of
                              // one of their junction edges (edges shared by three or more
-                             // walls) (0: no such band)
+                             // walls) that come within junctionRadius of it (0: no such band)
+  double junctionRadius = 0;  // µm: the band's junction edges come this near the centre
+                              // (0: outerRadius)
   int maxPasses = 16;
   double targetSize(double distance) const;
 };

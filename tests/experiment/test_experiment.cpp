@@ -112,6 +112,9 @@ TEST(Experiment, TheJunctionBandFollowsTheBendingLayer) {
     const GradedRefinement b = siteRefinement(Vec3::Zero(), 1.0, cell, level + 1, 4.0, l);
     EXPECT_NEAR(b.junctionSize, a.junctionSize / 2, 1e-12);
     EXPECT_NEAR(b.finest, a.finest / 2, 1e-12);
+    // Along the probed cell's junctions: those within 0.6 cell sizes of the contact patch.
+    EXPECT_NEAR(a.junctionRadius, 1.0 + 0.6 * cell, 1e-12);
+    EXPECT_LT(a.junctionRadius, a.outerRadius);
     EXPECT_EQ(siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, 0.0).junctionSize, 0.0);
   }
 }

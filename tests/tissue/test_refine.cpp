@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -303,6 +304,88 @@ TEST(GradedRefinement, BandAlongTheJunctionsNearTheCentre) {
   EXPECT_GT(cc.vertexCount(), plain.complex.vertexCount());
   std::printf("  junction band: %d vertices against %d without, %d band triangles\n",
               cc.vertexCount(), plain.complex.vertexCount(), inBand);
+}
+
+TEST(GradedRefinement, TheBandFollowsOnlyTheJunctionsWithinItsRadius) {
+  // The base's junction edges (shared by three or more walls) near the top: those coming within
+  // the band's radius (A) and those within the zone but beyond it (B). The band refines along A's
+  // whole length within the zone and leaves B's triangles as the zone's sizes make them.
+  const CellComplex base = generateMeristem(MeristemParams{});
+  GradedRefinement g = atTheTop();
+  g.junctionSize = 0.3;
+  g.junctionRadius = 4.0;
+  const RefinedComplex r = refineGraded(base, g);
+  const CellComplex& cc = r.complex;
+  ASSERT_TRUE(checkValidity(cc).ok());
+  const auto segment = [](const Vec3& x, const Vec3& p, const Vec3& q) {
+    const Vec3 d = q - p;
+    const double t = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    return (x - (p + t * d)).norm();
+  };
+  std::map<std::pair<int, int>, std::vector<int>> walls;
+  for (int t = 0; t < base.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      auto& w = walls[std::minmax(base.triangles[t][k], base.triangles[t][(k + 1) % 3])];
+      if (std::find(w.begin(), w.end(), base.triangleWall[t]) == w.end())
+        w.push_back(base.triangleWall[t]);
+    }
+  struct Junction {
+    Vec3 p, q;
+    std::vector<int> walls;
+  };
+  std::vector<Junction> a, b;
+  for (const auto& [e, w] : walls) {
+    if (w.size() < 3) continue;
+    const Vec3 p = base.rest.col(e.first), q = base.rest.col(e.second);
+    const double d = segment(g.center, p, q);
+    if (d <= g.junctionRadius)
+      a.push_back({p, q, w});
+    else if (d <= g.outerRadius)
+      b.push_back({p, q, w});
+  }
+  ASSERT_GT(a.size(), 5u);
+  ASSERT_GT(b.size(), 5u);
+  // The distance of a triangle's corners from the junctions in a set (of its own wall's only).
+  const auto nearest = [&](const CellComplex& m, const std::vector<Junction>& set, int t,
+                           bool ownWall) {
+    double d = 1e300;
+    for (const Junction& j : set)
+      if (!ownWall || std::find(j.walls.begin(), j.walls.end(), m.triangleWall[t]) != j.walls.end())
+        for (int k = 0; k < 3; ++k)
+          d = std::min(d, segment(m.rest.col(m.triangles[t][k]), j.p, j.q));
+    return d;
+  };
+  // Triangles along A (own wall) must be banded; along B, away from A, they are banded only
+  // when the band reaches the whole zone (the refinement without a band radius).
+  g.junctionRadius = 0;
+  const RefinedComplex wholeZone = refineGraded(base, g);
+  const CellComplex& whole = wholeZone.complex;
+  const auto count = [&](const CellComplex& m, bool checkA) {
+    int onA = 0, onB = 0, banded = 0;
+    for (int t = 0; t < m.triangleCount(); ++t) {
+      const double d = distanceToTriangle(m, t, g.center);
+      if (d > g.outerRadius || g.targetSize(d) <= 2 * g.junctionSize) continue;
+      if (nearest(m, a, t, true) < 1e-9) {
+        ++onA;
+        if (checkA) EXPECT_LE(longestEdge(m, t), g.junctionSize * (1 + 1e-12)) << "triangle " << t;
+      } else if (nearest(m, b, t, true) < 1e-9 && nearest(m, a, t, false) > g.targetSize(d)) {
+        ++onB;
+        if (longestEdge(m, t) <= g.junctionSize) ++banded;
+      }
+    }
+    return std::array<int, 3>{onA, onB, banded};
+  };
+  const auto [onA, onB, bandedB] = count(cc, true);
+  const auto [onAWhole, onBWhole, bandedBWhole] = count(whole, true);
+  EXPECT_GT(onA, 100);
+  EXPECT_GT(onBWhole, 100);
+  EXPECT_GT(bandedBWhole, 0.9 * onBWhole);  // B is banded when the band has no radius of its own
+  EXPECT_LT(bandedB, onB / 10 + 1);         // and otherwise only the closure's few triangles
+  EXPECT_LT(cc.vertexCount(), whole.vertexCount());
+  std::printf(
+      "  band radius 4: %d triangles along its junctions, %d of %d banded beyond; "
+      "without a radius %d of %d; %d against %d vertices\n",
+      onA, bandedB, onB, bandedBWhole, onBWhole, cc.vertexCount(), whole.vertexCount());
 }
 
 TEST(GradedRefinement, ProlongationAndTransferAreExactForAffineFields) {
