@@ -37,8 +37,9 @@ void require(bool ok, const std::string& what, double value, const std::string& 
 bool sameMechanics(const ExperimentSettings& a, const ExperimentSettings& b) {
   const Material &m = a.material, &n = b.material;
   return m.youngModulus == n.youngModulus && m.poissonRatio == n.poissonRatio &&
-         m.thickness == n.thickness && m.bending == n.bending && a.pressure == b.pressure &&
-         a.solver.kind == b.solver.kind && a.solver.tolerance == b.solver.tolerance;
+         m.thickness == n.thickness && m.bending == n.bending && m.junctions == n.junctions &&
+         a.pressure == b.pressure && a.solver.kind == b.solver.kind &&
+         a.solver.tolerance == b.solver.tolerance;
 }
 
 bool sameSite(const IndentationSettings& a, const IndentationSettings& b) {
@@ -51,7 +52,7 @@ bool sameEndValues(const ExperimentSettings& a, const ExperimentSettings& b) {
   const IndentationSettings &s = a.indentation, &t = b.indentation;
   return s.probeRadius == t.probeRadius && s.axis == t.axis && s.control == t.control &&
          (s.control == Control::Force ? s.maxForce == t.maxForce : s.maxDepth == t.maxDepth) &&
-         a.mesh.grading == b.mesh.grading;
+         a.mesh.grading == b.mesh.grading && a.mesh.junctionBand == b.mesh.junctionBand;
 }
 
 }  // namespace

@@ -199,6 +199,29 @@ TEST(Experiment, LevelsRefineAroundOneMaterialPointAndTheSeedChangesNothing) {
   EXPECT_NEAR(fromSeed, stepped, 1e-6 * stepped);
 }
 
+TEST(Experiment, NewJunctionsOrBandAreSolvedAgainNotRemembered) {
+  // The application keeps one Experiment and changes its settings: an end value remembered
+  // for one junction rule or mesh family must not be reported for another (the error estimate
+  // compares levels by these values). Each must equal a fresh experiment's.
+  ExperimentSettings hinged = shallow();
+  Experiment e(smallMeristem(), hinged);
+  const double fHinged = e.endValue(2);
+  ExperimentSettings rigid = hinged;
+  rigid.material.junctions = JunctionRule::Rigid;
+  e.setSettings(rigid);
+  const double fRigid = e.endValue(2);
+  EXPECT_NEAR(fRigid, Experiment(smallMeristem(), rigid).endValue(2), 1e-7 * fRigid);
+  EXPECT_GT(std::abs(fRigid - fHinged), 1e-4 * fHinged);
+  ExperimentSettings band = hinged;
+  band.mesh.junctionBand = true;
+  e.setSettings(band);
+  const double fBand = e.endValue(2);
+  EXPECT_NEAR(fBand, Experiment(smallMeristem(), band).endValue(2), 1e-7 * fBand);
+  EXPECT_GT(std::abs(fBand - fHinged), 1e-4 * fHinged);
+  std::printf("  end values at level 2: hinged %.6f, rigid %.6f, junction band %.6f uN\n", fHinged,
+              fRigid, fBand);
+}
+
 TEST(Experiment, RelaxingTheAddedVerticesFirstGivesTheSameRestStateInFewerIterations) {
   // The refined tissue's rest state started from the carried one, or from it with the added
   // vertices relaxed first (the tissue's own held): the same equilibrium (to the solver's
