@@ -313,7 +313,7 @@ int runIndent(const IndentArgs& a) {
       << (settings.mesh.automatic ? std::to_string(settings.mesh.tolerance) + ")" : ")") << ": "
       << site.complex->vertexCount() << " vertices, " << site.complex->triangleCount()
       << " triangles, smallest angle " << site.refinement.minAngleDeg << " deg"
-      << (settings.mesh.junctionBand ? ", junction band" : "");
+      << (junctionBandApplies(settings) ? ", junction band" : "");
     comments.push_back(m.str());
     comments.push_back(describeError(r.error, settings));
     std::ostringstream w;

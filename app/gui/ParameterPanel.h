@@ -54,6 +54,7 @@ class ParameterPanel : public QWidget {
   void emitParams();
   void emitSchedule();
   void updateScheduleControls();
+  void updateBandControl(const SimulationParams& p);
 
   QDoubleSpinBox *E_, *nu_, *h_, *p_, *radius_, *tolerance_;
   QComboBox* bending_;
@@ -65,6 +66,7 @@ class ParameterPanel : public QWidget {
   QDoubleSpinBox *maxDepth_, *maxForce_;
   QSpinBox* steps_;
   QCheckBox* unload_;
+  QCheckBox* junctionBand_;
   QPushButton *run_, *cancel_;
   QProgressBar* progress_;
   bool silent_ = false;

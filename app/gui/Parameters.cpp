@@ -64,6 +64,7 @@ ExperimentSettings SimulationParams::experimentSettings() const {
   s.mesh.automatic = autoMesh;
   if (!autoMesh) s.mesh.level = meshLevel;
   s.mesh.tolerance = meshTolerance;
+  s.mesh.junctionBand = junctionBand;
   return s;
 }
 
@@ -86,16 +87,21 @@ std::string describe(const SimulationParams& p) {
   if (p.bending != d.bending) s << ", " << toString(p.bending) << " bending";
   else if (p.junctions != d.junctions) s << ", " << toString(p.junctions) << " junctions";
   if (!p.autoMesh) s << ", mesh level " << p.meshLevel;
+  if (junctionBandApplies(p.experimentSettings())) s << ", junction band";
   return s.str();
 }
 
 nlohmann::json toJson(const SimulationParams& p) {
-  return {{"E_MPa", p.youngModulus},        {"nu", p.poissonRatio},
-          {"thickness_um", p.thickness},    {"pressure_MPa", p.pressure},
-          {"bending", toString(p.bending)}, {"junctions", toString(p.junctions)},
+  return {{"E_MPa", p.youngModulus},
+          {"nu", p.poissonRatio},
+          {"thickness_um", p.thickness},
+          {"pressure_MPa", p.pressure},
+          {"bending", toString(p.bending)},
+          {"junctions", toString(p.junctions)},
           {"probe_radius_um", p.probeRadius},
           {"mesh", p.autoMesh ? nlohmann::json("auto") : nlohmann::json(p.meshLevel)},
-          {"mesh_tolerance", p.meshTolerance}};
+          {"mesh_tolerance", p.meshTolerance},
+          {"junction_band", p.junctionBand}};
 }
 
 nlohmann::json toJson(const Schedule& s) {
@@ -142,6 +148,7 @@ SimulationParams paramsFromJson(const nlohmann::json& j) {
     p.meshLevel = integer(j, "refine_level", 0);
   }
   p.meshTolerance = number(j, "mesh_tolerance", p.meshTolerance);
+  p.junctionBand = boolean(j, "junction_band", p.junctionBand);
   try {
     p.experimentSettings().validate();  // the same ranges as the command line
   } catch (const std::exception& e) {

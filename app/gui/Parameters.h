@@ -26,6 +26,9 @@ struct SimulationParams {
   bool autoMesh = MeshSettings{}.automatic;
   int meshLevel = MeshSettings{}.level;            // the fixed level (0 = the tissue as loaded)
   double meshTolerance = MeshSettings{}.tolerance;  // relative
+  // A band along the junctions of the probed cell at the width of the walls' bending layer
+  // (MeshSettings::junctionBand): to check a result's sensitivity to it.
+  bool junctionBand = MeshSettings{}.junctionBand;
 
   Material material() const;
   /// The core's settings for these parameters (probe, material, turgor, mesh).

@@ -118,6 +118,15 @@ std::string percent(double relative) {
   return s.str();
 }
 
+// "mesh level 3", with "(automatic)" and the junction band when asked for.
+std::string meshLevelText(int level, bool automatic, bool band) {
+  std::string s = "mesh level " + std::to_string(level);
+  if (automatic || band)
+    s += std::string(" (") + (automatic ? "automatic" : "") + (automatic && band ? ", " : "") +
+         (band ? "junction band" : "") + ")";
+  return s;
+}
+
 }  // namespace
 
 SimulationWorker::SimulationWorker() : s_(std::make_unique<State>()) {
@@ -357,8 +366,8 @@ bool SimulationWorker::prepare(const SimulationParams& params, const SiteRequest
   s.liveEstimated = -1;
   s.drag.reset();
   std::ostringstream mesh;
-  mesh << "mesh level " << level << (params.autoMesh ? " (automatic)" : "") << ": "
-       << s.site->complex->vertexCount() << " vertices; error not yet estimated";
+  mesh << meshLevelText(level, params.autoMesh, junctionBandApplies(params.experimentSettings()))
+       << ": " << s.site->complex->vertexCount() << " vertices; error not yet estimated";
   s.meshStatus = mesh.str();
   Snapshot snap = snapshot(Snapshot::Phase::Prepared);
   snap.point = CurvePoint{0.0, 0.0, 0, 0.0, true, false};
@@ -451,9 +460,9 @@ void SimulationWorker::handle(const EstimateLive& r) {
   report.relative = e.relative;
   report.method = e.method;
   std::ostringstream st;
-  st << "mesh level " << s.site->level << ": error " << (e.estimated() ? "±" + percent(e.relative)
-                                                                        : "not estimated")
-     << " at " << s.liveDepth << " µm";
+  st << meshLevelText(s.site->level, false, junctionBandApplies(s.params.experimentSettings()))
+     << ": error " << (e.estimated() ? "±" + percent(e.relative) : "not estimated") << " at "
+     << s.liveDepth << " µm";
   if (e.estimated() && s.params.autoMesh && e.relative > s.params.meshTolerance)
     st << " (above the " << percent(s.params.meshTolerance)
        << " asked: run a curve to refine automatically)";
@@ -542,9 +551,9 @@ bool SimulationWorker::runSchedule(const Schedule& sc, bool rerun) {
   report.method = e.method;
   emit meshErrorEstimated(report);
   std::ostringstream st;
-  st << "mesh level " << s.site->level << ": error "
-     << (e.estimated() ? "±" + percent(e.relative) : "not estimated") << " at " << report.at
-     << (force ? " µN" : " µm");
+  st << meshLevelText(s.site->level, false, junctionBandApplies(s.params.experimentSettings()))
+     << ": error " << (e.estimated() ? "±" + percent(e.relative) : "not estimated") << " at "
+     << report.at << (force ? " µN" : " µm");
   s.meshStatus = st.str();
   const MeshSettings mesh = s.experiment->settings().mesh;
   if (s.params.autoMesh && e.estimated() && e.relative > s.params.meshTolerance &&

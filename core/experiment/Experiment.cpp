@@ -87,6 +87,10 @@ double junctionLayerWidth(const Material& material, double pressure, double cell
   return std::sqrt(material.bendingRigidity() / tension);
 }
 
+bool junctionBandApplies(const ExperimentSettings& s) {
+  return s.mesh.junctionBand && junctionLayerWidth(s.material, s.pressure, 1.0) > 0;
+}
+
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
                                 int level, double grading, double junctionLayer) {
   if (level < 1) throw std::invalid_argument("siteRefinement: level must be at least 1");

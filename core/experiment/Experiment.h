@@ -61,6 +61,11 @@ GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double
 /// bending. siteRefinement's band along the junctions is a multiple of it.
 double junctionLayerWidth(const Material& material, double pressure, double cellSize);
 
+struct ExperimentSettings;
+/// Whether the refinement has the junction band: asked for (MeshSettings::junctionBand) and the
+/// walls have a bending layer to resolve (turgor and bending; junctionLayerWidth).
+bool junctionBandApplies(const ExperimentSettings& settings);
+
 /// The clamped material of the outer surface (a clamped vertex, or an edge between two) within
 /// `radius` (µm) of `point`, named for a message ("clamped vertex 295"), or empty if there is
 /// none: a probe whose contact patch reaches it pushes on walls that cannot move.

@@ -107,6 +107,17 @@ TEST(Experiment, TheJunctionBandFollowsTheBendingLayer) {
   Material flat = m;
   flat.bending = BendingModel::None;
   EXPECT_EQ(junctionLayerWidth(flat, 0.8, cell), 0.0);
+  // A band is said to be there only when asked for and there is a layer to resolve.
+  ExperimentSettings asked;
+  EXPECT_FALSE(junctionBandApplies(asked));
+  asked.mesh.junctionBand = true;
+  EXPECT_TRUE(junctionBandApplies(asked));
+  ExperimentSettings plasmolysed = asked;
+  plasmolysed.pressure = 0;
+  EXPECT_FALSE(junctionBandApplies(plasmolysed));
+  ExperimentSettings membrane = asked;
+  membrane.material.bending = BendingModel::None;
+  EXPECT_FALSE(junctionBandApplies(membrane));
   for (int level = 1; level <= 6; ++level) {
     const GradedRefinement a = siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, l);
     const GradedRefinement b = siteRefinement(Vec3::Zero(), 1.0, cell, level + 1, 4.0, l);

@@ -360,14 +360,14 @@ TEST(GradedRefinement, TheBandFollowsOnlyTheJunctionsWithinItsRadius) {
   g.junctionRadius = 0;
   const RefinedComplex wholeZone = refineGraded(base, g);
   const CellComplex& whole = wholeZone.complex;
-  const auto count = [&](const CellComplex& m, bool checkA) {
+  const auto count = [&](const CellComplex& m) {
     int onA = 0, onB = 0, banded = 0;
     for (int t = 0; t < m.triangleCount(); ++t) {
       const double d = distanceToTriangle(m, t, g.center);
       if (d > g.outerRadius || g.targetSize(d) <= 2 * g.junctionSize) continue;
       if (nearest(m, a, t, true) < 1e-9) {
         ++onA;
-        if (checkA) EXPECT_LE(longestEdge(m, t), g.junctionSize * (1 + 1e-12)) << "triangle " << t;
+        EXPECT_LE(longestEdge(m, t), g.junctionSize * (1 + 1e-12)) << "triangle " << t;
       } else if (nearest(m, b, t, true) < 1e-9 && nearest(m, a, t, false) > g.targetSize(d)) {
         ++onB;
         if (longestEdge(m, t) <= g.junctionSize) ++banded;
@@ -375,8 +375,8 @@ TEST(GradedRefinement, TheBandFollowsOnlyTheJunctionsWithinItsRadius) {
     }
     return std::array<int, 3>{onA, onB, banded};
   };
-  const auto [onA, onB, bandedB] = count(cc, true);
-  const auto [onAWhole, onBWhole, bandedBWhole] = count(whole, true);
+  const auto [onA, onB, bandedB] = count(cc);
+  const auto [onAWhole, onBWhole, bandedBWhole] = count(whole);
   EXPECT_GT(onA, 100);
   EXPECT_GT(onBWhole, 100);
   EXPECT_GT(bandedBWhole, 0.9 * onBWhole);  // B is banded when the band has no radius of its own

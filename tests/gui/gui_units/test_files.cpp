@@ -69,6 +69,8 @@ class FilesTest : public QObject {
     s.params.autoMesh = false;
     s.params.meshLevel = 2;
     s.params.meshTolerance = 0.05;
+    s.params.junctions = tp::JunctionRule::Rigid;
+    s.params.junctionBand = true;
     s.schedule.control = tp::Control::Force;
     s.schedule.maxForce = 12.5;
     s.schedule.steps = 7;
@@ -264,6 +266,12 @@ class FilesTest : public QObject {
     nlohmann::json j = good;
     j["parameters"]["E_MPa"] = "soft";
     QVERIFY(message(j).find("E_MPa") != std::string::npos);
+    j = good;
+    j["parameters"]["junction_band"] = "yes";
+    QVERIFY(message(j).find("'junction_band' must be true or false") != std::string::npos);
+    j = good;
+    j["parameters"].erase("junction_band");  // sessions written before it: the default
+    QVERIFY(message(j).empty());
     j = good;
     j["format"] = "something";
     QVERIFY(message(j).find("not a TissueProbe session") != std::string::npos);

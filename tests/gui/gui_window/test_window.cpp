@@ -19,6 +19,7 @@
 #include <QMimeData>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QScreen>
 #include <QSet>
 #include <QSettings>
@@ -1247,6 +1248,47 @@ class WindowTest : public QObject {
     w_->displayPanel()->applySettings(DisplaySettings{});
     QCOMPARE(view_->mapValue(), -1);
     view_->resetView();
+  }
+
+  void junctionBandRefinesTheMeshAndSaysSo() {
+    // Parameters ▸ "Band along the junctions": the site is prepared again on a mesh with the
+    // band, the status bar says so, and it is a parameter of the curves run (and saved) with it.
+    // Without turgor the walls have no bending layer: the box is disabled.
+    auto* panel = w_->parameterPanel();
+    auto* band = panel->findChild<QCheckBox*>("junctionBandCheck");
+    auto* label = w_->findChild<QLabel*>("meshLabel");
+    QVERIFY(band && label);
+    waitIdle();
+    QVERIFY(!band->isChecked());
+    QVERIFY(band->isEnabled());
+    const auto vertices = [&] {
+      const QRegularExpressionMatch m = QRegularExpression("(\\d+) vertices").match(label->text());
+      return m.hasMatch() ? m.captured(1).toInt() : -1;
+    };
+    int preparation = c_->latest().preparation;
+    band->setChecked(true);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
+    waitIdle();
+    QVERIFY(c_->params().junctionBand);
+    QVERIFY2(label->text().contains("junction band"), qPrintable(label->text()));
+    const int withBand = vertices();
+    preparation = c_->latest().preparation;
+    band->setChecked(false);
+    QTRY_VERIFY_WITH_TIMEOUT(c_->latest().preparation > preparation, 120000);
+    waitIdle();
+    QVERIFY(!c_->params().junctionBand);
+    QVERIFY2(!label->text().contains("junction band"), qPrintable(label->text()));
+    const int without = vertices();
+    QVERIFY2(
+        without > 0 && withBand > without,
+        qPrintable(QString("%1 vertices with the band, %2 without").arg(withBand).arg(without)));
+    SimulationParams p = panel->params();
+    const SimulationParams before = p;
+    p.pressure = 0;
+    panel->setParams(p);  // silently: nothing is prepared
+    QVERIFY(!band->isEnabled());
+    panel->setParams(before);
+    QVERIFY(band->isEnabled());
   }
 
   void presentationModeIsLargeAndGoesBack() {
