@@ -1259,6 +1259,17 @@ class WindowTest : public QObject {
     auto* label = w_->findChild<QLabel*>("meshLabel");
     QVERIFY(band && label);
     waitIdle();
+    // A refined level (level 0 is the tissue as loaded: nothing to refine), turgid Koiter walls.
+    const SimulationParams start = c_->params();
+    SimulationParams level2 = start;
+    level2.autoMesh = false;
+    level2.meshLevel = 2;
+    level2.pressure = 0.8;
+    level2.bending = tp::BendingModel::Koiter;
+    level2.junctionBand = false;
+    panel->setParams(level2);  // silently; the controller is given them as the panel would
+    c_->setParams(level2);
+    waitIdle();
     QVERIFY(!band->isChecked());
     QVERIFY(band->isEnabled());
     const auto vertices = [&] {
@@ -1289,6 +1300,9 @@ class WindowTest : public QObject {
     QVERIFY(!band->isEnabled());
     panel->setParams(before);
     QVERIFY(band->isEnabled());
+    panel->setParams(start);
+    c_->setParams(start);
+    waitIdle();
   }
 
   void presentationModeIsLargeAndGoesBack() {
