@@ -185,6 +185,18 @@ double distanceToTriangle(const CellComplex& cc, int t, const Vec3& p) {
 }
 
 // A refinement at the top of the generated meristem: 0.25 µm under a 1 µm probe, graded out.
+// The walls each edge (a vertex pair) belongs to; junction edges have three or more.
+std::map<std::pair<int, int>, std::vector<int>> wallsOfEdges(const CellComplex& cc) {
+  std::map<std::pair<int, int>, std::vector<int>> walls;
+  for (int t = 0; t < cc.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      auto& w = walls[std::minmax(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])];
+      if (std::find(w.begin(), w.end(), cc.triangleWall[t]) == w.end())
+        w.push_back(cc.triangleWall[t]);
+    }
+  return walls;
+}
+
 GradedRefinement atTheTop() {
   GradedRefinement g;
   g.center = Vec3(0, 0, 41.5);
@@ -271,15 +283,8 @@ TEST(GradedRefinement, BandAlongTheJunctionsNearTheCentre) {
   const ValidityReport v = checkValidity(cc);
   ASSERT_TRUE(v.ok()) << v.summary();
   // Junction edges of the refined tissue (they lie on the base's: bisection keeps them edges).
-  std::map<std::pair<int, int>, std::vector<int>> walls;
-  for (int t = 0; t < cc.triangleCount(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      auto& w = walls[std::minmax(cc.triangles[t][k], cc.triangles[t][(k + 1) % 3])];
-      if (std::find(w.begin(), w.end(), cc.triangleWall[t]) == w.end())
-        w.push_back(cc.triangleWall[t]);
-    }
   std::vector<char> onJunction(cc.vertexCount(), 0);
-  for (const auto& [e, w] : walls)
+  for (const auto& [e, w] : wallsOfEdges(cc))
     if (w.size() >= 3) onJunction[e.first] = onJunction[e.second] = 1;
   int inBand = 0, middlesCoarser = 0, bandBeyond = 0;
   for (int t = 0; t < cc.triangleCount(); ++t) {
@@ -322,19 +327,12 @@ TEST(GradedRefinement, TheBandFollowsOnlyTheJunctionsWithinItsRadius) {
     const double t = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
     return (x - (p + t * d)).norm();
   };
-  std::map<std::pair<int, int>, std::vector<int>> walls;
-  for (int t = 0; t < base.triangleCount(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      auto& w = walls[std::minmax(base.triangles[t][k], base.triangles[t][(k + 1) % 3])];
-      if (std::find(w.begin(), w.end(), base.triangleWall[t]) == w.end())
-        w.push_back(base.triangleWall[t]);
-    }
   struct Junction {
     Vec3 p, q;
     std::vector<int> walls;
   };
   std::vector<Junction> a, b;
-  for (const auto& [e, w] : walls) {
+  for (const auto& [e, w] : wallsOfEdges(base)) {
     if (w.size() < 3) continue;
     const Vec3 p = base.rest.col(e.first), q = base.rest.col(e.second);
     const double d = segment(g.center, p, q);
