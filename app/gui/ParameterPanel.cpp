@@ -272,7 +272,9 @@ void ParameterPanel::setSchedule(const Schedule& s) {
 
 void ParameterPanel::updateBandControl(const SimulationParams& p) {
   // Without turgor or bending the walls have no bending layer at their junctions: no band.
-  junctionBand_->setEnabled(p.bending != BendingModel::None && p.pressure > 0);
+  SimulationParams banded = p;
+  banded.junctionBand = true;
+  junctionBand_->setEnabled(junctionBandApplies(banded.experimentSettings()));
 }
 
 void ParameterPanel::emitParams() {

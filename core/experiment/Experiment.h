@@ -51,8 +51,9 @@ struct MeshSettings {
 /// one cell size (at least 4 R) of that radius, whose edges are also at most 0.35 cell sizes ×
 /// 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue; and
 /// (when junctionLayer > 0) at most 2·junctionLayer·2^(3−L) in a band of that width along
-/// those of their junctions that come within R + 0.6 cell sizes of the point. Each level halves the
-/// target size everywhere in that zone; the walls beyond keep the tissue's own triangles.
+/// those of their junctions that come within R + 0.6 cell sizes of the point. Each level
+/// halves the target size everywhere in that zone; the walls beyond keep the tissue's own
+/// triangles.
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
                                 int level, double grading, double junctionLayer = 0);
 
