@@ -146,9 +146,11 @@ struct TurgidTangent {
   }
 };
 
-// One numeric CHOLMOD factorisation of that tangent (symbolic analysis done once, outside).
-void BM_Factorization(benchmark::State& state) {
+// One numeric factorisation of that tangent (symbolic analysis done once, outside): the
+// solver's own in single precision (the default), and CHOLMOD's in double.
+void factorization(benchmark::State& state, CholmodSolver::Precision precision) {
   CholmodSolver chol;
+  chol.setFactorPrecision(precision);
   TurgidTangent k(static_cast<int>(state.range(0)), chol);
   for (auto _ : state) {
     const auto st = chol.factorize(k.ev.hessian, 0.0);
@@ -156,6 +158,12 @@ void BM_Factorization(benchmark::State& state) {
   }
   addSizeCounters(state, k.setup.model());
   state.counters["factor_nonzeros"] = chol.factorNonzeros();
+}
+void BM_Factorization(benchmark::State& state) {
+  factorization(state, CholmodSolver::Precision::Single);
+}
+void BM_FactorizationDouble(benchmark::State& state) {
+  factorization(state, CholmodSolver::Precision::Double);
 }
 
 // One preconditioner application of the conjugate gradients (both triangular solves with the
@@ -439,6 +447,7 @@ BENCHMARK(BM_AssemblyRatio)->Arg(0)->Arg(3)->Arg(4)->Iterations(1)->Unit(benchma
 BENCHMARK(BM_Analysis)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnalysisOfUnknowns)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Factorization)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorizationDouble)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PreconditionerSolve)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EquilibriumStep)->Arg(0)->Arg(3)->Arg(4)->Iterations(21)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DragReplay)->Arg(0)->Arg(3)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();

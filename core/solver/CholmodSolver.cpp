@@ -18,6 +18,19 @@
 #include <set>
 #include <stdexcept>
 
+// BLAS and LAPACK in single precision (the system's, OpenBLAS on Debian: CHOLMOD's own).
+extern "C" {
+void ssyrk_(const char* uplo, const char* trans, const int* n, const int* k, const float* alpha,
+            const float* a, const int* lda, const float* beta, float* c, const int* ldc);
+void sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const float* alpha, const float* a, const int* lda, const float* b, const int* ldb,
+            const float* beta, float* c, const int* ldc);
+void strsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const float* alpha, const float* a, const int* lda, float* b,
+            const int* ldb);
+void spotrf_(const char* uplo, const int* n, float* a, const int* lda, int* info);
+}
+
 namespace tp {
 
 namespace {
@@ -84,6 +97,15 @@ struct CholmodSolver::Impl {
   cholmod_dense* Y = nullptr;  // solve2 workspaces
   cholmod_dense* E = nullptr;
   bool factored = false;
+  // The single-precision numeric factorisation on CHOLMOD's supernodal analysis (see
+  // factorizeSingle): where each value of A goes in L, and its workspaces.
+  bool singleReady = false;              // dest, diag, superOf built for the present analysis
+  bool singleFactor = false;             // the held factor is factorF_ alone (L holds no values)
+  double shift = 0;                      // of the held factorisation
+  std::vector<std::int64_t> dest, diag;  // per value of A / per column: its place in L's values
+  std::vector<int> superOf;              // per column: its supernode
+  std::vector<int> head, next, lpos, map;
+  std::vector<float> update;
 
   Impl() {
     cholmod_start(&common);
@@ -178,6 +200,7 @@ void CholmodSolver::analyze(const SparsePattern& pattern, std::span<const int> n
   cholmod_free_sparse(&m.A, &m.common);
   cholmod_free_dense(&m.B, &m.common);
   m.factored = false;
+  m.singleReady = m.singleFactor = false;
   const size_t n = pattern.n;
   m.A = cholmod_allocate_sparse(n, n, pattern.nnz(), 1, 1, 1, CHOLMOD_REAL, &m.common);
   if (!m.A) throw std::runtime_error("CHOLMOD: cannot allocate the matrix");
@@ -227,8 +250,18 @@ CholmodSolver::Status CholmodSolver::factorize(std::span<const double> values, d
       return Status::NonFinite;
     }
   if (!values.empty()) std::memcpy(m.A->x, values.data(), sizeof(double) * values.size());
-  double beta[2] = {shift, 0.0};
   setBlasThreads(maxBlasThreads());
+  m.shift = shift;
+  m.singleFactor = false;
+  if (precision_ == Precision::Single && factorizeSingle(shift)) {
+    m.singleFactor = true;
+    m.factored = true;
+    factorFValid_ = true;
+    message_.clear();
+    return Status::Ok;
+  }
+  factorFValid_ = false;  // a failed single-precision attempt leaves nothing to solve with
+  double beta[2] = {shift, 0.0};
   // Debian's CHOLMOD assembles each supernode in an OpenMP loop of a team size fixed when it was
   // built (CHOLMOD_OMP_NUM_THREADS, 4), whatever OMP_NUM_THREADS says: on two cores that is four
   // threads forking and joining per supernode, waking each other through the kernel. With
@@ -267,6 +300,36 @@ void CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!m.factored) throw std::logic_error("CholmodSolver::solve without a factorisation");
   const size_t n = m.L->n;
   if (static_cast<size_t>(b.size()) != n) throw std::invalid_argument("CholmodSolver: rhs size");
+  if (m.singleFactor) {
+    // Iterative refinement: each correction from the single-precision factor, each residual
+    // in double with A itself, until the residual stops falling (Wilkinson; Higham, "Accuracy
+    // and Stability of Numerical Algorithms", 2002, §12.1).
+    const int* Ap = static_cast<const int*>(m.A->p);
+    const int* Ai = static_cast<const int*>(m.A->i);
+    const double* Ax = static_cast<const double*>(m.A->x);
+    const auto residual = [&](const Eigen::VectorXd& y, Eigen::VectorXd& r) {
+      r = b - m.shift * y;
+      for (size_t j = 0; j < n; ++j)
+        for (int k = Ap[j]; k < Ap[j + 1]; ++k) {
+          const int i = Ai[k];
+          r[i] -= Ax[k] * y[j];
+          if (static_cast<size_t>(i) != j) r[j] -= Ax[k] * y[i];
+        }
+    };
+    x.setZero(static_cast<Eigen::Index>(n));
+    Eigen::VectorXd r = b, z;
+    double last = r.norm();
+    const double target = 1e-14 * last;
+    for (int it = 0; it < 10 && last > target; ++it) {
+      solveSinglePrecision(r, z, 1);
+      x += z;
+      residual(x, r);
+      const double now = r.norm();
+      if (!(now < 0.5 * last)) break;
+      last = now;
+    }
+    return;
+  }
   if (n > 0) std::memcpy(m.B->x, b.data(), sizeof(double) * n);
   setBlasThreads(1);
   if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common))
@@ -470,7 +533,7 @@ void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vector
   Impl& m = *impl_;
   if (!m.factored) throw std::logic_error("CholmodSolver::solve without a factorisation");
   const cholmod_factor* L = m.L;
-  if (!L->is_super || !L->is_ll) {  // not the supernodal LLᵀ this was written for
+  if (!m.singleFactor && (!L->is_super || !L->is_ll)) {  // not the supernodal LLᵀ of this code
     solve(b, x);
     return;
   }
@@ -524,6 +587,138 @@ void CholmodSolver::solveSinglePrecision(const Eigen::VectorXd& b, Eigen::Vector
 }
 
 bool CholmodSolver::factored() const { return impl_->factored; }
+bool CholmodSolver::singlePrecisionFactor() const {
+  return impl_->factored && impl_->singleFactor;
+}
+
+// The numeric factorisation P (A + shift I) Pᵀ = L Lᵀ in single precision, on CHOLMOD's
+// supernodal analysis (the same supernodes, rows and value layout as its own factor, so that
+// the preconditioner's solves read it unchanged): left-looking, each supernode assembled from
+// A's values and the updates of the supernodes below it in the elimination tree (a syrk and a
+// gemm each), then its diagonal block factorised (potrf) and the rows below it solved (trsm) —
+// the supernodal method of Ng & Peyton (SIAM J. Sci. Comput. 14, 1993) that CHOLMOD runs in
+// double. False when the analysis is not supernodal or a diagonal block is not positive
+// definite in single precision; factorize() then asks CHOLMOD in double.
+bool CholmodSolver::factorizeSingle(double shift) {
+  Impl& m = *impl_;
+  const cholmod_factor* L = m.L;
+  if (!L->is_super) return false;
+  const int n = static_cast<int>(L->n), nsuper = static_cast<int>(L->nsuper);
+  const int* super = static_cast<const int*>(L->super);
+  const int* pi = static_cast<const int*>(L->pi);
+  const int* px = static_cast<const int*>(L->px);
+  const int* rows = static_cast<const int*>(L->s);
+  const int* Ap = static_cast<const int*>(m.A->p);
+  const int* Ai = static_cast<const int*>(m.A->i);
+  const double* Ax = static_cast<const double*>(m.A->x);
+  if (!m.singleReady) {
+    // Where each value of A lands in L's values: A's (i, j) is L's (max, min) of the permuted
+    // indices, in the supernode of that column, at that row's place in the supernode's rows.
+    const int* perm = static_cast<const int*>(L->Perm);
+    std::vector<int> inv(n);
+    for (int k = 0; k < n; ++k) inv[perm[k]] = k;
+    m.superOf.assign(n, 0);
+    for (int s = 0; s < nsuper; ++s)
+      for (int c = super[s]; c < super[s + 1]; ++c) m.superOf[c] = s;
+    const int nnz = Ap[n];
+    std::vector<int> start(n + 1, 0), byColumn(nnz), columnOf(nnz);
+    for (int j = 0; j < n; ++j)
+      for (int k = Ap[j]; k < Ap[j + 1]; ++k) columnOf[k] = j;
+    for (int j = 0; j < n; ++j)
+      for (int k = Ap[j]; k < Ap[j + 1]; ++k) ++start[std::min(inv[Ai[k]], inv[j]) + 1];
+    for (int c = 0; c < n; ++c) start[c + 1] += start[c];
+    {
+      std::vector<int> at(start.begin(), start.end() - 1);
+      for (int j = 0; j < n; ++j)
+        for (int k = Ap[j]; k < Ap[j + 1]; ++k) byColumn[at[std::min(inv[Ai[k]], inv[j])]++] = k;
+    }
+    m.dest.assign(nnz, -1);
+    m.diag.assign(n, 0);
+    m.map.assign(n, -1);
+    for (int s = 0; s < nsuper; ++s) {
+      const int k1 = super[s], nsrow = pi[s + 1] - pi[s], nscol = super[s + 1] - k1;
+      for (int i = 0; i < nsrow; ++i) {
+        const int r = rows[pi[s] + i];
+        // The rows below the diagonal block ascending, as the updates below assume.
+        if ((i < nscol && r != k1 + i) || (i > nscol && r <= rows[pi[s] + i - 1])) return false;
+        m.map[r] = i;
+      }
+      for (int c = k1; c < k1 + nscol; ++c) {
+        m.diag[c] = px[s] + static_cast<std::int64_t>(c - k1) * nsrow + (c - k1);
+        for (int q = start[c]; q < start[c + 1]; ++q) {
+          const int k = byColumn[q];
+          const int r = std::max(inv[Ai[k]], inv[columnOf[k]]);
+          if (r < k1 || m.map[r] < 0 || rows[pi[s] + m.map[r]] != r) return false;
+          m.dest[k] = px[s] + static_cast<std::int64_t>(c - k1) * nsrow + m.map[r];
+        }
+      }
+    }
+    m.head.assign(nsuper, -1);
+    m.next.assign(nsuper, -1);
+    m.lpos.assign(nsuper, 0);
+    m.singleReady = true;
+  }
+  std::vector<float>& x = factorF_;
+  x.assign(L->xsize, 0.0f);
+  for (size_t k = 0; k < m.dest.size(); ++k) x[m.dest[k]] += static_cast<float>(Ax[k]);
+  if (shift != 0)
+    for (int c = 0; c < n; ++c) x[m.diag[c]] += static_cast<float>(shift);
+  std::fill(m.head.begin(), m.head.end(), -1);
+  const float one = 1.0f, zero = 0.0f;
+  for (int s = 0; s < nsuper; ++s) {
+    const int k1 = super[s], k2 = super[s + 1], nscol = k2 - k1;
+    const int nsrow = pi[s + 1] - pi[s];
+    float* Ls = x.data() + px[s];
+    for (int i = 0; i < nsrow; ++i) m.map[rows[pi[s] + i]] = i;
+    // The updates of the supernodes whose next rows fall in this one's columns.
+    for (int d = m.head[s]; d >= 0;) {
+      const int dnext = m.next[d];
+      const int ndrow = pi[d + 1] - pi[d], ndcol = super[d + 1] - super[d];
+      const int p = m.lpos[d];
+      const int* drows = rows + pi[d];
+      int ndrow1 = 0;
+      while (p + ndrow1 < ndrow && drows[p + ndrow1] < k2) ++ndrow1;
+      const int ndrow2 = ndrow - p;
+      const float* Ld = x.data() + px[d];
+      m.update.resize(static_cast<size_t>(ndrow2) * ndrow1);
+      float* C = m.update.data();
+      // C = L_d[p:, :] L_d[p : p + ndrow1, :]ᵀ, its top ndrow1 × ndrow1 lower triangle by syrk.
+      ssyrk_("L", "N", &ndrow1, &ndcol, &one, Ld + p, &ndrow, &zero, C, &ndrow2);
+      const int below = ndrow2 - ndrow1;
+      if (below > 0)
+        sgemm_("N", "T", &below, &ndrow1, &ndcol, &one, Ld + p + ndrow1, &ndrow, Ld + p, &ndrow,
+               &zero, C + ndrow1, &ndrow2);
+      for (int jj = 0; jj < ndrow1; ++jj) {
+        float* column = Ls + static_cast<std::ptrdiff_t>(drows[p + jj] - k1) * nsrow;
+        const float* c = C + static_cast<std::ptrdiff_t>(jj) * ndrow2;
+        for (int ii = jj; ii < ndrow2; ++ii) column[m.map[drows[p + ii]]] -= c[ii];
+      }
+      m.lpos[d] = p + ndrow1;
+      if (m.lpos[d] < ndrow) {
+        const int t = m.superOf[drows[m.lpos[d]]];
+        m.next[d] = m.head[t];
+        m.head[t] = d;
+      }
+      d = dnext;
+    }
+    int info = 0;
+    spotrf_("L", &nscol, Ls, &nsrow, &info);
+    if (info != 0) {
+      message_ = "tangent matrix not positive definite in single precision (column " +
+                 std::to_string(k1 + info - 1) + ")";
+      return false;
+    }
+    const int below = nsrow - nscol;
+    if (below > 0) {
+      strsm_("R", "L", "T", "N", &below, &nscol, &one, Ls, &nsrow, Ls + nscol, &nsrow);
+      m.lpos[s] = nscol;
+      const int t = m.superOf[rows[pi[s] + nscol]];
+      m.next[s] = m.head[t];
+      m.head[t] = s;
+    }
+  }
+  return true;
+}
 
 double CholmodSolver::factorFlops() const {
   const Impl& m = *impl_;

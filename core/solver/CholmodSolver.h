@@ -49,10 +49,20 @@ class CholmodSolver {
   bool analyzed() const;
 
   enum class Status { Ok, NotPositiveDefinite, NonFinite, Failed };
+  /// The numeric factorisation's precision. Single (the default): this class's own supernodal
+  /// factorisation in single precision on CHOLMOD's analysis, half the time of CHOLMOD's in
+  /// double (BM_Factorization, bench/README.md), and CHOLMOD in double whenever a pivot fails in
+  /// single precision, so that "not positive definite" is double precision's verdict. Double:
+  /// CHOLMOD's alone.
+  enum class Precision { Single, Double };
+  void setFactorPrecision(Precision p) { precision_ = p; }
   /// Numeric factorisation of A + shift·I with A's values over the analysed pattern.
   Status factorize(std::span<const double> values, double shift = 0.0);
-  /// Solves A x = b with the last successful factorisation.
+  /// Solves A x = b with the last successful factorisation (to double precision: after a
+  /// single-precision factorisation by iterative refinement against A itself).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// Whether the factor held is the single-precision one.
+  bool singlePrecisionFactor() const;
   /// The same with a single-precision copy of the factor: about half the memory traffic of
   /// solve(), accurate to ~1e-6 relative. For preconditioning. With two or more OpenMP threads
   /// the two largest independent subtrees of the supernodal elimination tree are solved at once
@@ -80,7 +90,9 @@ class CholmodSolver {
 
  private:
   struct Impl;
+  bool factorizeSingle(double shift);
   std::unique_ptr<Impl> impl_;
+  Precision precision_ = Precision::Single;
   std::vector<float> factorF_;  // the supernodal values of L in single precision
   bool factorFValid_ = false;
   SolveSchedule schedule_;      // of the analysed structure

@@ -1,6 +1,7 @@
 // The sparse Cholesky solver behind Newton (solver/CholmodSolver.h): the double-precision solve
-// against the matrix itself, and the single-precision preconditioner solve — serial and split
-// over two threads along the elimination tree — against the double-precision one.
+// against the matrix itself, the single-precision factorisation against CHOLMOD's in double, and
+// the single-precision preconditioner solve — serial and split over two threads along the
+// elimination tree — against the double-precision one.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -92,6 +93,44 @@ TEST(Cholmod, OrderingTheVerticesSolvesTheMatrix) {
   std::vector<int> negative = node;
   negative[0] = -1;
   EXPECT_THROW(byNodes.analyze(k.pattern(), negative), std::invalid_argument);
+}
+
+// The single-precision factorisation (the default) against CHOLMOD's in double on the same
+// analysis: its factor within single-precision round-off of the double one rounded (the
+// preconditioner's solves agree to ~1e-6), the refined solve to double precision, with and
+// without a shift, and an indefinite matrix reported as such (double precision's verdict).
+TEST(Cholmod, SinglePrecisionFactorisationMatchesTheDoubleOne) {
+  Tangent k;
+  const std::vector<int> node = k.model->orderingNodes();
+  CholmodSolver single, twice;
+  twice.setFactorPrecision(CholmodSolver::Precision::Double);
+  single.analyze(k.pattern(), node);
+  twice.analyze(k.pattern(), node);
+  const Eigen::VectorXd b = randomVector(k.pattern().n, 5);
+  for (double shift : {0.0, 0.37}) {
+    ASSERT_EQ(single.factorize(k.ev.hessian, shift), CholmodSolver::Status::Ok)
+        << single.lastMessage();
+    ASSERT_EQ(twice.factorize(k.ev.hessian, shift), CholmodSolver::Status::Ok);
+    EXPECT_TRUE(single.singlePrecisionFactor());
+    EXPECT_FALSE(twice.singlePrecisionFactor());
+    Eigen::VectorXd x, y, xf, yf;
+    single.solve(b, x);
+    twice.solve(b, y);
+    const Eigen::VectorXd shifted = k.times(x) + shift * x;
+    EXPECT_LT((shifted - b).norm(), 1e-9 * b.norm()) << "shift " << shift;
+    EXPECT_LT((x - y).norm(), 1e-9 * y.norm()) << "shift " << shift;
+    single.solveSinglePrecision(b, xf, 1);
+    twice.solveSinglePrecision(b, yf, 1);
+    EXPECT_LT((xf - yf).norm(), 1e-4 * yf.norm()) << "shift " << shift;
+    EXPECT_GT((xf - yf).norm(), 0.0);  // two factorisations, not one copied
+  }
+  // Indefinite: the largest diagonal entry subtracted.
+  double big = 0;
+  for (int j = 0; j < k.pattern().n; ++j)
+    big = std::max(big, std::abs(k.ev.hessian[k.pattern().colPtr[j + 1] - 1]));
+  EXPECT_EQ(single.factorize(k.ev.hessian, -2 * big), CholmodSolver::Status::NotPositiveDefinite);
+  EXPECT_FALSE(single.factored());
+  EXPECT_EQ(twice.factorize(k.ev.hessian, -2 * big), CholmodSolver::Status::NotPositiveDefinite);
 }
 
 // The split is worth doing on this matrix (the solver splits below 0.8 of the serial work),
@@ -187,6 +226,7 @@ TEST(Cholmod, FactorisationsRegionsComeThroughThisProcesssEntry) {
   // to this process's GOMP_parallel rather than libgomp's: then they are counted here.
   const Tangent k;
   CholmodSolver chol;
+  chol.setFactorPrecision(CholmodSolver::Precision::Double);
   chol.analyze(k.pattern());
   std::uint64_t regions = 0;
   CholmodSolver::Status status;
