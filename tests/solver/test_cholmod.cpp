@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "mechanics/Assembly.h"
 #include "mechanics/Model.h"
 #include "solver/CholmodSolver.h"
 #include "solver/OpenMpRegions.h"
@@ -131,6 +132,33 @@ TEST(Cholmod, SinglePrecisionFactorisationMatchesTheDoubleOne) {
   EXPECT_EQ(single.factorize(k.ev.hessian, -2 * big), CholmodSolver::Status::NotPositiveDefinite);
   EXPECT_FALSE(single.factored());
   EXPECT_EQ(twice.factorize(k.ev.hessian, -2 * big), CholmodSolver::Status::NotPositiveDefinite);
+}
+
+// A matrix positive definite in double but singular once rounded to single precision: the
+// single-precision pivot fails and CHOLMOD factorises it in double, so the solver neither calls
+// it indefinite (Newton would shift it) nor solves with a broken factor.
+TEST(Cholmod, APivotThatFailsInSinglePrecisionFallsBackToDouble) {
+  SparsePattern p;  // [[1, c], [c, 1]] with c = 1 − 1e-9: det 2e-9 in double, 0 in float
+  p.n = 2;
+  p.colPtr = {0, 1, 3};
+  p.rowIdx = {0, 0, 1};
+  const double c = 1.0 - 1e-9;
+  const std::vector<double> values = {1.0, c, 1.0};
+  ASSERT_EQ(static_cast<float>(c), 1.0f);
+  CholmodSolver chol;
+  chol.analyze(p);
+  ASSERT_EQ(chol.factorize(values), CholmodSolver::Status::Ok) << chol.lastMessage();
+  EXPECT_FALSE(chol.singlePrecisionFactor());
+  const Eigen::Vector2d x(0.25, -0.75);
+  const Eigen::VectorXd b = (Eigen::Matrix2d() << 1.0, c, c, 1.0).finished() * x;
+  Eigen::VectorXd y;
+  chol.solve(b, y);
+  EXPECT_LT((y - x).norm(), 1e-6 * x.norm());  // the conditioning is 2e9
+  // The same matrix shifted far from singular factorises in single precision again.
+  ASSERT_EQ(chol.factorize(values, 0.5), CholmodSolver::Status::Ok);
+  EXPECT_TRUE(chol.singlePrecisionFactor());
+  chol.solve(b + 0.5 * x, y);
+  EXPECT_LT((y - x).norm(), 1e-12 * x.norm());
 }
 
 // The split is worth doing on this matrix (the solver splits below 0.8 of the serial work),
