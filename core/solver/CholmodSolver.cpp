@@ -100,6 +100,7 @@ struct CholmodSolver::Impl {
   // The single-precision numeric factorisation on CHOLMOD's supernodal analysis (see
   // factorizeSingle): where each value of A goes in L, and its workspaces.
   bool singleReady = false;              // dest, diag, superOf built for the present analysis
+  bool singleUnusable = false;           // the analysis is not the layout assumed: double only
   bool singleFactor = false;             // the held factor is factorF_ alone (L holds no values)
   double shift = 0;                      // of the held factorisation
   std::vector<std::int64_t> dest, diag;  // per value of A / per column: its place in L's values
@@ -200,7 +201,7 @@ void CholmodSolver::analyze(const SparsePattern& pattern, std::span<const int> n
   cholmod_free_sparse(&m.A, &m.common);
   cholmod_free_dense(&m.B, &m.common);
   m.factored = false;
-  m.singleReady = m.singleFactor = false;
+  m.singleReady = m.singleFactor = m.singleUnusable = false;
   const size_t n = pattern.n;
   m.A = cholmod_allocate_sparse(n, n, pattern.nnz(), 1, 1, 1, CHOLMOD_REAL, &m.common);
   if (!m.A) throw std::runtime_error("CHOLMOD: cannot allocate the matrix");
@@ -597,12 +598,13 @@ bool CholmodSolver::singlePrecisionFactor() const {
 // A's values and the updates of the supernodes below it in the elimination tree (a syrk and a
 // gemm each), then its diagonal block factorised (potrf) and the rows below it solved (trsm) —
 // the supernodal method of Ng & Peyton (SIAM J. Sci. Comput. 14, 1993) that CHOLMOD runs in
-// double. False when the analysis is not supernodal or a diagonal block is not positive
-// definite in single precision; factorize() then asks CHOLMOD in double.
+// double. False when the analysis is not supernodal (or not laid out as assumed: then never
+// tried again for it) or a diagonal block is not positive definite in single precision;
+// factorize() then asks CHOLMOD in double.
 bool CholmodSolver::factorizeSingle(double shift) {
   Impl& m = *impl_;
   const cholmod_factor* L = m.L;
-  if (!L->is_super) return false;
+  if (!L->is_super || m.singleUnusable) return false;
   const int n = static_cast<int>(L->n), nsuper = static_cast<int>(L->nsuper);
   const int* super = static_cast<const int*>(L->super);
   const int* pi = static_cast<const int*>(L->pi);
@@ -640,7 +642,8 @@ bool CholmodSolver::factorizeSingle(double shift) {
       for (int i = 0; i < nsrow; ++i) {
         const int r = rows[pi[s] + i];
         // The rows below the diagonal block ascending, as the updates below assume.
-        if ((i < nscol && r != k1 + i) || (i > nscol && r <= rows[pi[s] + i - 1])) return false;
+        if ((i < nscol && r != k1 + i) || (i > nscol && r <= rows[pi[s] + i - 1]))
+          return !(m.singleUnusable = true);
         m.map[r] = i;
       }
       for (int c = k1; c < k1 + nscol; ++c) {
@@ -648,7 +651,8 @@ bool CholmodSolver::factorizeSingle(double shift) {
         for (int q = start[c]; q < start[c + 1]; ++q) {
           const int k = byColumn[q];
           const int r = std::max(inv[Ai[k]], inv[columnOf[k]]);
-          if (r < k1 || m.map[r] < 0 || rows[pi[s] + m.map[r]] != r) return false;
+          if (r < k1 || m.map[r] < 0 || rows[pi[s] + m.map[r]] != r)
+            return !(m.singleUnusable = true);
           m.dest[k] = px[s] + static_cast<std::int64_t>(c - k1) * nsrow + m.map[r];
         }
       }
