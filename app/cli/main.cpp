@@ -161,6 +161,7 @@ struct IndentArgs {
   std::string refine = "auto";
   double meshTolerance = MeshSettings{}.tolerance;
   bool junctionBand = MeshSettings{}.junctionBand;
+  std::optional<double> meshPanels;  // the command's own default when not given
   std::string csv, vtu;
   double tolerance = 1e-8;
   std::string solver = "newton";
@@ -208,6 +209,7 @@ ExperimentSettings experimentSettings(const IndentArgs& a) {
   }
   x.mesh.tolerance = a.meshTolerance;
   x.mesh.junctionBand = a.junctionBand;
+  if (a.meshPanels) x.mesh.panelCells = *a.meshPanels;
   x.solver.kind = parseSolverKind(a.solver);
   if (x.solver.kind == SolverKind::ImplicitEulerCG && a.force)
     throw UsageError("--solver implicit-euler-cg supports --depth only");
@@ -314,6 +316,8 @@ int runIndent(const IndentArgs& a) {
       << site.complex->vertexCount() << " vertices, " << site.complex->triangleCount()
       << " triangles, smallest angle " << site.refinement.minAngleDeg << " deg"
       << (junctionBandApplies(settings) ? ", junction band" : "");
+    if (settings.mesh.panelCells != MeshSettings::kStressPanelCells)
+      m << ", panels of " << settings.mesh.panelCells << " cell sizes at level 3";
     comments.push_back(m.str());
     comments.push_back(describeError(r.error, settings));
     std::ostringstream w;
@@ -762,6 +766,7 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   auto [shard, shards] = a.shard.empty() ? std::pair<int, int>{0, 1} : parseShard(a.shard);
   MapPlan plan;
   plan.settings = experimentSettings(a.model);
+  if (!a.model.meshPanels) plan.settings.mesh.panelCells = MeshSettings::kForcePanelCells;
   for (const auto& v : a.vary) {
     try {
       plan.vary.push_back(parseVariation(v));
@@ -933,6 +938,11 @@ void addModelOptions(CLI::App* cmd, IndentArgs& a) {
                 "Also refine a band along the junctions of the walls around the site to the "
                 "width of their bending layer under turgor, sqrt(D/N) (slower; for checking a "
                 "result's sensitivity to the junctions' layers)");
+  cmd->add_option("--mesh-panels", a.meshPanels,
+                  "Longest edge anywhere on the walls refined around the site at level 3, in "
+                  "cell sizes, halved every level (default 0.35 for indent and fit, fine enough "
+                  "for a speckle-free stress picture; 0.7 for map and sweep, which report "
+                  "forces only)");
   cmd->add_flag("--quiet", a.quiet, "Print nothing but errors");
 }
 

@@ -50,6 +50,7 @@ bool MapRunner::start(const MapRequest& request, QString* why) {
   settings.indentation.control = Control::Depth;
   settings.indentation.maxDepth = request.depth;
   settings.indentation.steps = request.steps;
+  settings.mesh.panelCells = MeshSettings::kForcePanelCells;  // a map reports forces only
   try {
     settings.validate();
   } catch (const std::exception& e) {

@@ -52,7 +52,8 @@ bool sameEndValues(const ExperimentSettings& a, const ExperimentSettings& b) {
   const IndentationSettings &s = a.indentation, &t = b.indentation;
   return s.probeRadius == t.probeRadius && s.axis == t.axis && s.control == t.control &&
          (s.control == Control::Force ? s.maxForce == t.maxForce : s.maxDepth == t.maxDepth) &&
-         a.mesh.grading == b.mesh.grading && a.mesh.junctionBand == b.mesh.junctionBand;
+         a.mesh.grading == b.mesh.grading && a.mesh.junctionBand == b.mesh.junctionBand &&
+         a.mesh.panelCells == b.mesh.panelCells;
 }
 
 }  // namespace
@@ -92,7 +93,8 @@ bool junctionBandApplies(const ExperimentSettings& s) {
 }
 
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
-                                int level, double grading, double junctionLayer) {
+                                int level, double grading, double junctionLayer,
+                                double panelCells) {
   if (level < 1) throw std::invalid_argument("siteRefinement: level must be at least 1");
   GradedRefinement g;
   g.center = restSite;
@@ -106,8 +108,7 @@ GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double
   // left with its few flat triangles keeps the stress of an unrefined wall: a speckle). At 0.5
   // cell sizes one outer wall next to the default site kept a mean von Mises stress 23 % below
   // the uniformly refined one (RefinedPatchHasNoStressSpeckleUniformRefinementLacks); 0.35 keeps
-  // every wall within 10 %, for ~20 % more vertices at level 3.
-  constexpr double panelCells = 0.35;
+  // every wall within 10 % (MeshSettings::kStressPanelCells), for ~20 % more vertices at level 3.
   g.panelSize = panelCells * cellSize * std::pow(2.0, 3 - level);
   // And from level 3 on, every level halves the longest edge of the zone's walls (half the base's
   // at level 3), so that two levels differ over the whole zone and the error estimated from them
@@ -168,6 +169,8 @@ void ExperimentSettings::validate() const {
           "the mesh tolerance", mesh.tolerance, "in (0, 1]");
   require(std::isfinite(mesh.grading) && mesh.grading >= 0.1 && mesh.grading <= 20,
           "the mesh grading", mesh.grading, "between 0.1 and 20");
+  require(std::isfinite(mesh.panelCells) && mesh.panelCells >= 0.05 && mesh.panelCells <= 10,
+          "the zone's panel size", mesh.panelCells, "between 0.05 and 10 cell sizes");
   require(std::isfinite(solver.tolerance) && solver.tolerance >= 1e-14 && solver.tolerance <= 1e-3,
           "the solver tolerance", solver.tolerance, "between 1e-14 and 1e-3");
 }
@@ -379,7 +382,8 @@ std::unique_ptr<PreparedSite> Experiment::prepareSite(int level, const Monitor& 
         siteRefinement(restSite_, ind.probeRadius, cellSize_, level, settings_.mesh.grading,
                        settings_.mesh.junctionBand
                            ? junctionLayerWidth(settings_.material, settings_.pressure, cellSize_)
-                           : 0.0);
+                           : 0.0,
+                       settings_.mesh.panelCells);
     site->mesh = std::make_shared<const RefinedComplex>(refineGraded(*tissue_, spec));
   } else {
     if (!unrefined_) unrefined_ = std::make_shared<const RefinedComplex>(unrefined(*tissue_));

@@ -43,19 +43,29 @@ struct MeshSettings {
   // An unseeded refined rest state under turgor starts with the vertices the refinement added
   // relaxed, the tissue's own held (Experiment::relaxAddedVertices).
   bool relaxAddedVertices = true;
+  // The longest edge anywhere on the walls of the refined zone at level 3, in cell sizes (halved
+  // every level; siteRefinement). kStressPanelCells makes every wall there bulge under turgor
+  // like the walls by the site, so that its stress shows no speckle; maps and sweeps, which
+  // report forces only, use kForcePanelCells: on the default meristem's 174 cell middles their
+  // forces are within 0.3 % (sd) of the stress family's and the map takes 0.66 × the time
+  // (bench/README.md, nineteenth session).
+  static constexpr double kStressPanelCells = 0.35;
+  static constexpr double kForcePanelCells = 0.7;
+  double panelCells = kStressPanelCells;
 };
 
 /// The graded refinement of level L ≥ 1 around a material point of the rest surface: longest
 /// edges of R·2^(1−L) (R the probe radius) within R of it (the contact patch up to depths of
 /// R/2), growing by 2^(3−L)/grading per µm beyond, on the whole of every wall reaching within
-/// one cell size (at least 4 R) of that radius, whose edges are also at most 0.35 cell sizes ×
-/// 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue; and
+/// one cell size (at least 4 R) of that radius, whose edges are also at most `panelCells` cell
+/// sizes × 2^(3−L) and, from level 3, 2^(2−L) times the longest edge they have in the tissue; and
 /// (when junctionLayer > 0) at most 2·junctionLayer·2^(3−L) in a band of that width along
 /// those of their junctions that come within R + 0.6 cell sizes of the point. Each level
 /// halves the target size everywhere in that zone; the walls beyond keep the tissue's own
 /// triangles.
 GradedRefinement siteRefinement(const Vec3& restSite, double probeRadius, double cellSize,
-                                int level, double grading, double junctionLayer = 0);
+                                int level, double grading, double junctionLayer = 0,
+                                double panelCells = MeshSettings::kStressPanelCells);
 
 /// The width ℓ = √(D/N) (µm) of the boundary layer in which a wall under turgor bends next to a
 /// junction, N = p·cellSize/4 the tension of a turgid cell of that diameter; 0 without turgor or

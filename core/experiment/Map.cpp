@@ -129,6 +129,9 @@ json settingsToJson(const ExperimentSettings& s) {
   j["mesh"] = s.mesh.automatic ? json("auto") : json(s.mesh.level);
   j["mesh_tolerance"] = s.mesh.tolerance;
   if (s.mesh.junctionBand) j["junction_band"] = true;  // absent when off: older plans still match
+  // Absent at the stress picture's panels, which every plan before this key had.
+  if (s.mesh.panelCells != MeshSettings::kStressPanelCells)
+    j["mesh_panel_cells"] = s.mesh.panelCells;
   j["newton_tolerance"] = s.solver.tolerance;
   return j;
 }

@@ -310,6 +310,7 @@ TEST(Cli, OptionsAreCheckedUpFrontWithTheirRange) {
       {"indent" + mesh + " --pressure 1e6", "the turgor pressure must be between 0 and 100 MPa"},
       {"indent" + mesh + " --force 1e9", "the force must be positive and at most 1e7 µN (got 1e+09)"},
       {"indent" + mesh + " --refine 60", "the refinement level must be between 0 and 6 (got 60)"},
+      {"indent" + mesh + " --mesh-panels 0", "the zone's panel size must be between 0.05 and 10 cell sizes (got 0)"},
       {"indent" + mesh + " --depth 1e3", "the depth 1000 µm is more than half the size of the tissue"},
       {"indent" + mesh + " --site 0,0,-1000", "µm from the tissue surface, more than a cell"},
       {"indent" + mesh + " --site 1,2,3,4", "--site: expected three comma-separated numbers, got '1,2,3,4'"},
@@ -592,6 +593,13 @@ TEST(Cli, MapShardsMergeAndRefuseBadValuesByName) {
   const CliRun other = cli(common + " --E 50 --out " + (dir / "single").string());
   EXPECT_EQ(other.status, 2) << other.output;
   EXPECT_THAT(other.output, HasSubstr("'settings' differs from this run's"));
+  // A map reports forces only: its plan says it ran on the coarser panels made for forces, and
+  // the same map on the stress picture's panels (indent's) is another plan.
+  EXPECT_THAT(read(dir / "single" / "plan.json"), HasSubstr("\"mesh_panel_cells\""));
+  const CliRun stressPanels =
+      cli(common + " --mesh-panels 0.35 --out " + (dir / "single").string());
+  EXPECT_EQ(stressPanels.status, 2) << stressPanels.output;
+  EXPECT_THAT(stressPanels.output, HasSubstr("'settings' differs from this run's"));
   for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
            {" --shard 2/2", "--shard: expected I/N with 0 <= I < N, got '2/2'"},
            {" --shard x", "--shard: expected I/N"},

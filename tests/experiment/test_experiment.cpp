@@ -127,6 +127,17 @@ TEST(Experiment, TheJunctionBandFollowsTheBendingLayer) {
     EXPECT_NEAR(a.junctionRadius, 1.0 + 0.6 * cell, 1e-12);
     EXPECT_LT(a.junctionRadius, a.outerRadius);
     EXPECT_EQ(siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, 0.0).junctionSize, 0.0);
+    // The panels on the zone's walls halve with the level too, from their size at level 3 in
+    // cell sizes; a map's (forces only) are twice the stress picture's, nothing else changes.
+    const GradedRefinement forces =
+        siteRefinement(Vec3::Zero(), 1.0, cell, level, 4.0, l, MeshSettings::kForcePanelCells);
+    EXPECT_NEAR(a.panelSize, 0.35 * cell * std::pow(2.0, 3 - level), 1e-12);
+    EXPECT_NEAR(forces.panelSize, 0.7 * cell * std::pow(2.0, 3 - level), 1e-12);
+    EXPECT_EQ(forces.finest, a.finest);
+    EXPECT_EQ(forces.grading, a.grading);
+    EXPECT_EQ(forces.outerRadius, a.outerRadius);
+    EXPECT_EQ(forces.panelFraction, a.panelFraction);
+    EXPECT_EQ(forces.junctionSize, a.junctionSize);
   }
 }
 
@@ -229,8 +240,20 @@ TEST(Experiment, NewJunctionsOrBandAreSolvedAgainNotRemembered) {
   const double fBand = e.endValue(2);
   EXPECT_NEAR(fBand, Experiment(smallMeristem(), band).endValue(2), 1e-7 * fBand);
   EXPECT_GT(std::abs(fBand - fHinged), 1e-4 * fHinged);
-  std::printf("  end values at level 2: hinged %.6f, rigid %.6f, junction band %.6f uN\n", fHinged,
-              fRigid, fBand);
+  // A map's coarser panels: another mesh, so another end value.
+  ExperimentSettings panels = hinged;
+  panels.mesh.panelCells = MeshSettings::kForcePanelCells;
+  e.setSettings(panels);
+  const double fPanels = e.endValue(2);
+  Experiment fresh(smallMeristem(), panels);
+  EXPECT_NEAR(fPanels, fresh.endValue(2), 1e-7 * fPanels);
+  EXPECT_GT(std::abs(fPanels - fHinged), 1e-6 * fHinged);
+  EXPECT_LT(fresh.prepareSite(2)->complex->vertexCount(),
+            Experiment(smallMeristem(), hinged).prepareSite(2)->complex->vertexCount());
+  std::printf(
+      "  end values at level 2: hinged %.6f, rigid %.6f, junction band %.6f, map's "
+      "panels %.6f uN\n",
+      fHinged, fRigid, fBand, fPanels);
 }
 
 TEST(Experiment, RelaxingTheAddedVerticesFirstGivesTheSameRestStateInFewerIterations) {

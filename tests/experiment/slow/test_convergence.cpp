@@ -155,8 +155,10 @@ Reference reference(const Experiment& e, const PreparedSite& site, const Points&
   return r;
 }
 
-void checkSite(const char* name, const Vec3& restSite, double pressure, double probeRadius = 1.0) {
+void checkSite(const char* name, const Vec3& restSite, double pressure, double probeRadius = 1.0,
+               double panelCells = MeshSettings::kStressPanelCells) {
   ExperimentSettings s;
+  s.mesh.panelCells = panelCells;
   s.pressure = pressure;
   s.indentation.probeRadius = probeRadius;
   s.indentation.restSite = restSite;
@@ -173,10 +175,11 @@ void checkSite(const char* name, const Vec3& restSite, double pressure, double p
   ASSERT_TRUE(r.complete) << r.message;
   ASSERT_TRUE(r.error.estimated());
   const double F = r.curve.back().force;
-  std::printf("  [%5.1f s] %s, p = %.1f MPa, probe radius %.2f um: default level %d "
-              "(%d vertices), F(0.5 um) = %.6g uN, reported error %.2f %%\n",
-              elapsed(), name, pressure, probeRadius, r.site->level,
-              r.site->complex->vertexCount(), F, 100 * r.error.relative);
+  std::printf(
+      "  [%5.1f s] %s, p = %.1f MPa, probe radius %.2f um, panels %.2f cell sizes: "
+      "default level %d (%d vertices), F(0.5 um) = %.6g uN, reported error %.2f %%\n",
+      elapsed(), name, pressure, probeRadius, panelCells, r.site->level,
+      r.site->complex->vertexCount(), F, 100 * r.error.relative);
   // The reference sequence starts one level coarser than the default: that mesh halved twice
   // has everywhere half the triangle size of the default mesh (each level halves the target
   // size everywhere in the zone), at a quarter of the cost of halving the default mesh twice.
@@ -212,6 +215,19 @@ TEST(ConvergedByDefault, TurgidNextToAnAnticlinalWall) {
 
 TEST(ConvergedByDefault, TurgidOnAThreeWayJunction) {
   checkSite("on a junction", sitesAtTheTop(*defaultMeristem(), 1.0).junction, 0.8);
+}
+
+// A map's mesh (MeshSettings::kForcePanelCells: the zone's walls in panels twice the stress
+// picture's, since a map reports forces only) is as converged, and its error as honest, at the
+// sites a map of cell middles and of junctions indents.
+TEST(ConvergedByDefault, MapsMeshMiddleOfAnOuterWall) {
+  checkSite("middle of a wall", sitesAtTheTop(*defaultMeristem(), 1.0).middle, 0.8, 1.0,
+            MeshSettings::kForcePanelCells);
+}
+
+TEST(ConvergedByDefault, MapsMeshNextToAnAnticlinalWall) {
+  checkSite("next to an anticlinal wall", sitesAtTheTop(*defaultMeristem(), 1.0).anticlinal, 0.8,
+            1.0, MeshSettings::kForcePanelCells);
 }
 
 // The mesh follows the probe's size (triangles of r/2^(L−1) near the site at level L): with a

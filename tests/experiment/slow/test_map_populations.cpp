@@ -89,6 +89,7 @@ TEST(MapPopulations, TurgorStiffensNextToAnticlinalWallsAndNarrowsTheSpread) {
   plan.settings.mesh.automatic = false;
   plan.settings.mesh.level = 2;
   plan.settings.mesh.estimateError = true;
+  plan.settings.mesh.panelCells = MeshSettings::kForcePanelCells;  // a map's mesh (forces only)
   plan.settings.indentation.maxDepth = 0.5;
   plan.settings.indentation.steps = 5;
   plan.sites = middles;
