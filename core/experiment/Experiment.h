@@ -47,8 +47,8 @@ struct MeshSettings {
   // every level; siteRefinement). kStressPanelCells makes every wall there bulge under turgor
   // like the walls by the site, so that its stress shows no speckle; maps and sweeps, which
   // report forces only, use kForcePanelCells: on the default meristem's 174 cell middles their
-  // forces are within 0.3 % (sd) of the stress family's and the map takes 0.66 × the time
-  // (bench/README.md, nineteenth session).
+  // forces are 0.27 % (sd; 0.14 % where the level is the same) from the stress family's and the
+  // map takes 0.75 × the time (bench/README.md, nineteenth session).
   static constexpr double kStressPanelCells = 0.35;
   static constexpr double kForcePanelCells = 0.7;
   double panelCells = kStressPanelCells;
