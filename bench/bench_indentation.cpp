@@ -384,9 +384,8 @@ void BM_MapCellMiddles(benchmark::State& state) {
   MapPlan plan;
   plan.tissue = "default meristem";
   plan.tissueDigest = tissueDigest(*cc);
-  plan.settings = defaultSettings();
+  plan.settings = mapSettings(defaultSettings());
   plan.settings.indentation.steps = 5;
-  plan.settings.mesh.panelCells = MeshSettings::kForcePanelCells;  // as the CLI's map
   auto sites = cellMiddleSites(*cc);
   std::sort(sites.begin(), sites.end(),
             [](const MapSite& a, const MapSite& b) { return a.point.z() > b.point.z(); });

@@ -765,8 +765,9 @@ int runMapCommand(const MapArgs& a, bool sweep) {
   if (a.out.empty()) throw UsageError("--out: the results folder is required");
   auto [shard, shards] = a.shard.empty() ? std::pair<int, int>{0, 1} : parseShard(a.shard);
   MapPlan plan;
-  plan.settings = experimentSettings(a.model);
-  if (!a.model.meshPanels) plan.settings.mesh.panelCells = MeshSettings::kForcePanelCells;
+  // A map's mesh is made for forces unless --mesh-panels says otherwise.
+  plan.settings =
+      a.model.meshPanels ? experimentSettings(a.model) : mapSettings(experimentSettings(a.model));
   for (const auto& v : a.vary) {
     try {
       plan.vary.push_back(parseVariation(v));

@@ -46,11 +46,10 @@ bool MapRunner::start(const MapRequest& request, QString* why) {
   if (request.kinds.empty()) return refuse(tr("Choose the sites to map."));
   if (request.jobs < 1) return refuse(tr("At least one worker is needed."));
   if (request.cacheRoot.isEmpty()) return refuse(tr("No folder for the map's results."));
-  ExperimentSettings settings = request.params.experimentSettings();
+  ExperimentSettings settings = mapSettings(request.params.experimentSettings());
   settings.indentation.control = Control::Depth;
   settings.indentation.maxDepth = request.depth;
   settings.indentation.steps = request.steps;
-  settings.mesh.panelCells = MeshSettings::kForcePanelCells;  // a map reports forces only
   try {
     settings.validate();
   } catch (const std::exception& e) {

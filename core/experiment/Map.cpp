@@ -526,6 +526,11 @@ Variation parseVariation(const std::string& text) {
   return v;
 }
 
+ExperimentSettings mapSettings(ExperimentSettings indentation) {
+  indentation.mesh.panelCells = MeshSettings::kForcePanelCells;
+  return indentation;
+}
+
 void applyVariation(ExperimentSettings& s, const std::string& name, double value) {
   if (name == "E") s.material.youngModulus = value;
   else if (name == "nu") s.material.poissonRatio = value;

@@ -89,6 +89,11 @@ Variation parseVariation(const std::string& text);
 /// Sets the named parameter. Throws std::invalid_argument for an unknown name.
 void applyVariation(ExperimentSettings& settings, const std::string& name, double value);
 
+/// An indentation's settings as a map or a sweep runs them: the same, but a map reports forces
+/// and draws no stress, so the walls of the zone refined at each site are in panels made for
+/// forces (MeshSettings::kForcePanelCells) rather than for the stress picture.
+ExperimentSettings mapSettings(ExperimentSettings indentation);
+
 /// What a map or a sweep computes. Everything in it is in plan.json; two runs with the same
 /// plan compute the same tasks.
 struct MapPlan {

@@ -255,6 +255,27 @@ TEST(MapSweep, VariationsAreReadOrRefusedByName) {
   EXPECT_NE(message("E=-5,10").find("E="), std::string::npos);
 }
 
+TEST(MapPlan, AMapRunsAnIndentationOnAMeshMadeForForces) {
+  // A map reports forces and draws no stress: its settings are the indentation's with the
+  // refined zone's walls in the coarser panels made for forces, and its plan says so (the
+  // stress picture's panels, absent from the plan as in every plan before the key).
+  ExperimentSettings indentation;
+  indentation.pressure = 0.3;
+  indentation.mesh.tolerance = 0.02;
+  indentation.indentation.steps = 7;
+  const ExperimentSettings map = mapSettings(indentation);
+  EXPECT_EQ(map.mesh.panelCells, MeshSettings::kForcePanelCells);
+  EXPECT_EQ(indentation.mesh.panelCells, MeshSettings::kStressPanelCells);
+  EXPECT_EQ(map.pressure, 0.3);
+  EXPECT_EQ(map.mesh.tolerance, 0.02);
+  EXPECT_EQ(map.indentation.steps, 7);
+  MapPlan plan;
+  plan.settings = map;
+  EXPECT_EQ(plan.toJson()["settings"]["mesh_panel_cells"], MeshSettings::kForcePanelCells);
+  plan.settings = indentation;
+  EXPECT_FALSE(plan.toJson()["settings"].contains("mesh_panel_cells"));
+}
+
 TEST(MapPlan, TasksRunSiteFastestThenTheLastVariation) {
   MapPlan plan;
   plan.sites = {{SiteKind::Listed, "a", Vec3(1, 0, 0)}, {SiteKind::Listed, "b", Vec3(2, 0, 0)}};

@@ -84,12 +84,12 @@ TEST(MapPopulations, TurgorStiffensNextToAnticlinalWallsAndNarrowsTheSpread) {
   ASSERT_EQ(junctions.size(), 3u) << "the three top cells meet pairwise";
 
   MapPlan plan;
+  plan.settings = mapSettings(plan.settings);  // a map's mesh, made for forces
   plan.tissue = defaultTissuePath();
   plan.tissueDigest = tissueDigest(*cc);
   plan.settings.mesh.automatic = false;
   plan.settings.mesh.level = 2;
   plan.settings.mesh.estimateError = true;
-  plan.settings.mesh.panelCells = MeshSettings::kForcePanelCells;  // a map's mesh (forces only)
   plan.settings.indentation.maxDepth = 0.5;
   plan.settings.indentation.steps = 5;
   plan.sites = middles;
