@@ -46,9 +46,9 @@ struct MeshSettings {
   // The longest edge anywhere on the walls of the refined zone at level 3, in cell sizes (halved
   // every level; siteRefinement). kStressPanelCells makes every wall there bulge under turgor
   // like the walls by the site, so that its stress shows no speckle; maps and sweeps, which
-  // report forces only, use kForcePanelCells: on the default meristem's 174 cell middles their
-  // forces are 0.27 % (sd; 0.14 % where the level is the same) from the stress family's and the
-  // map takes 0.75 × the time (bench/README.md, nineteenth session).
+  // report forces only, use kForcePanelCells (mapSettings, Map.h): on the default meristem's 174
+  // cell middles their forces are 0.27 % (sd; 0.14 % where the level is the same) from the
+  // stress family's and the map takes 0.75 × the time (bench/README.md, nineteenth session).
   static constexpr double kStressPanelCells = 0.35;
   static constexpr double kForcePanelCells = 0.7;
   double panelCells = kStressPanelCells;

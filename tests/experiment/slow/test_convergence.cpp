@@ -218,8 +218,8 @@ TEST(ConvergedByDefault, TurgidOnAThreeWayJunction) {
 }
 
 // A map's mesh (MeshSettings::kForcePanelCells: the zone's walls in panels twice the stress
-// picture's, since a map reports forces only) is as converged, and its error as honest, at the
-// sites a map of cell middles and of junctions indents.
+// picture's, since a map reports forces only) is as converged, and its error as honest, in the
+// middle of a wall (where a map of cell middles indents) and next to an anticlinal wall.
 TEST(ConvergedByDefault, MapsMeshMiddleOfAnOuterWall) {
   checkSite("middle of a wall", sitesAtTheTop(*defaultMeristem(), 1.0).middle, 0.8, 1.0,
             MeshSettings::kForcePanelCells);
